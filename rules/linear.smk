@@ -1,0 +1,1 @@
+# Rules of the linear part (see rules/common.smk for helpers).

@@ -1,0 +1,1 @@
+# Rules of the mocap part (see rules/common.smk for helpers).

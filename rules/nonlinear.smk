@@ -1,0 +1,1 @@
+# Rules of the nonlinear part (see rules/common.smk for helpers).

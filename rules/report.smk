@@ -1,0 +1,18 @@
+# The reproduction report: every published number beside the project's value, with a status.
+
+
+rule reproduction_report:
+    input:
+        parts=REPORT_PARTS,
+        code=pkg("report"),
+    output:
+        table("reproduction_report"),
+    log:
+        logfile("reproduction_report"),
+    message:
+        "Joining {n} report parts into the reproduction report".format(n=len(REPORT_PARTS))
+    script:
+        "scripts/reproduction_report.py"
+
+
+BOOK_INPUTS.append(table("reproduction_report"))

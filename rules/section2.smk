@@ -1,0 +1,1 @@
+# Rules of the section2 part (see rules/common.smk for helpers).
