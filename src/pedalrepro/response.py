@@ -1,0 +1,343 @@
+"""Response of the linear models to the pedalling torques (Sec 3.1.2.1, 3.1.2.2, Eq 3.8-3.18).
+
+The pedalling disturbance is a sum of harmonics (Eq 3.14, ``pedalrepro.disturbance``)::
+
+    f(t) = Re( sum_k coef[k] (n_k w)^2 exp(i n_k w t) )
+
+so the particular solution (Eq 3.10-3.15) is ``q_p(t) = Re( sum_k Q_k exp(i n_k w t) )`` with
+
+    [ -(n w)^2 M + i n w v C1 + g K0 + v^2 K2 ] Q_k = coef[k] (n w)^2.
+
+This module solves that for whole speed x cadence grids in one batched complex solve, adds the
+homogeneous solution for zero initial state (the analytic time solution "LA", Eq 3.9, 3.16-3.18)
+and integrates the same linear model numerically ("LN", the thesis's ode45 check) with a fall
+event.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from . import spectral
+from .linear import state_matrix
+from .params import LinearModel
+
+
+class Harmonics(Protocol):
+    """Anything like ``disturbance.TorqueHarmonics``: harmonic numbers and complex coefficients.
+
+    ``n`` (k,), ``roll``, ``steer`` (k,) complex, N m s^2 (Eq 3.14 without ``(n w)^2``).
+    """
+
+    n: np.ndarray
+    roll: np.ndarray
+    steer: np.ndarray
+
+
+@dataclass(frozen=True)
+class SimpleHarmonics:
+    """A plain :class:`Harmonics` (for tests, subsets of harmonics and the CAM variants)."""
+
+    n: np.ndarray
+    roll: np.ndarray
+    steer: np.ndarray
+
+
+def select(harmonics: Harmonics, n: tuple[int, ...] | None = None, *, roll: bool = True,
+           steer: bool = True) -> SimpleHarmonics:
+    """A subset of the harmonics (e.g. ``n=(1,)`` for the cadence-only torque ``T(w)``).
+
+    ``steer=False`` keeps only the roll torque (the "roll torque only" case of Fig 3.30).
+    """
+    nn = np.asarray(harmonics.n, dtype=int)
+    keep = np.ones(len(nn), bool) if n is None else np.isin(nn, n)
+    if not keep.any():
+        raise ValueError(f"none of the harmonics {n} in {nn.tolist()}")
+    r = np.asarray(harmonics.roll, complex)[keep] * (1.0 if roll else 0.0)
+    s = np.asarray(harmonics.steer, complex)[keep] * (1.0 if steer else 0.0)
+    return SimpleHarmonics(nn[keep], r, s)
+
+
+def _coefficients(harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+    n = np.asarray(harmonics.n, dtype=float)
+    coef = np.stack([np.asarray(harmonics.roll, complex), np.asarray(harmonics.steer, complex)],
+                    axis=-1)
+    if n.ndim != 1 or coef.shape != (len(n), 2):
+        raise ValueError("harmonics must have 1-D n, roll, steer of equal length")
+    return n, coef
+
+
+def dynamic_stiffness(model: LinearModel, speed_m_s, frequency_rad_s) -> np.ndarray:
+    """``-w^2 M + i w v C1 + g K0 + v^2 K2`` for broadcast speeds and frequencies, (..., 2, 2)."""
+    v = np.asarray(speed_m_s, dtype=float)[..., None, None]
+    w = np.asarray(frequency_rad_s, dtype=float)[..., None, None]
+    return (-(w**2) * model.M + 1j * w * v * model.C1 + model.g * model.K0
+            + v**2 * model.K2)
+
+
+def particular_solution(
+    model: LinearModel, speed_m_s, omega_rad_s, harmonics: Harmonics
+) -> tuple[np.ndarray, np.ndarray]:
+    """Complex particular solution per harmonic (Sec 3.1.2.2.1, Eq 3.10-3.15), batched.
+
+    Parameters
+    ----------
+    model
+        Linear model (Eq 3.1).
+    speed_m_s, omega_rad_s
+        Forward speed and cadence, broadcast against each other (e.g. ``v[:, None]`` and
+        ``w[None, :]`` for a grid).
+    harmonics
+        Pedalling torque harmonics (``disturbance.torque_harmonics``).
+
+    Returns
+    -------
+    roll, steer
+        Complex amplitudes, shape ``broadcast(speed, omega) + (k,)``: the response to harmonic
+        ``n_k`` is ``Re(roll[..., k] exp(i n_k w t))``. The amplitude at the cadence is
+        ``abs(roll[..., 0])`` when ``n[0] == 1``; the phase is ``angle(...)``.
+    """
+    n, coef = _coefficients(harmonics)
+    v, w = np.broadcast_arrays(np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float))
+    freq = w[..., None] * n  # (..., k)
+    a = dynamic_stiffness(model, v[..., None], freq)  # (..., k, 2, 2)
+    rhs = coef * (freq**2)[..., None]  # (..., k, 2)
+    # zero forcing (w = 0) gives zero response, also where the matrix is singular
+    a = np.where((freq == 0)[..., None, None], np.eye(2), a)
+    q = np.linalg.solve(a, rhs[..., None])[..., 0]
+    return q[..., 0], q[..., 1]
+
+
+def particular_solution_loop(model: LinearModel, speed_m_s: np.ndarray, omega_rad_s: np.ndarray,
+                             harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+    """Reference per-point Python loop of :func:`particular_solution` (for tests and bench)."""
+    n, coef = _coefficients(harmonics)
+    roll = np.zeros((len(speed_m_s), len(omega_rad_s), len(n)), complex)
+    steer = np.zeros_like(roll)
+    for i, v in enumerate(speed_m_s):
+        for j, w in enumerate(omega_rad_s):
+            for k, nk in enumerate(n):
+                f = nk * w
+                if f == 0:
+                    continue
+                a = -(f**2) * model.M + 1j * f * v * model.C1 + model.g * model.K0 + v**2 * model.K2
+                q = np.linalg.solve(a, coef[k] * f**2)
+                roll[i, j, k], steer[i, j, k] = q
+    return roll, steer
+
+
+def superposed_amplitude(q: np.ndarray, n: np.ndarray, samples: int = 256) -> np.ndarray:
+    """Peak amplitude ``max_t |Re sum_k q_k exp(i n_k w t)|`` of a multi-harmonic response.
+
+    Evaluated on ``samples`` points of one cadence period (odd harmonics only: the signal is
+    half-wave antisymmetric, so max |x| is the amplitude).
+    """
+    theta = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+    phase = np.exp(1j * np.asarray(n)[:, None] * theta[None, :])  # (k, s)
+    x = np.real(np.einsum("...k,ks->...s", q, phase))
+    return np.abs(x).max(axis=-1)
+
+
+# --------------------------------------------------------------------------------------------
+# Time solutions: analytic (LA) and numerical (LN)
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class TimeSolution:
+    """Time solutions on a speed x cadence grid (one method, one model).
+
+    ``roll``/``steer`` are sampled at ``t_s``; NaN after a fall (|roll| >= the fall angle).
+    """
+
+    speed_m_s: np.ndarray  # (n_v,)
+    omega_rad_s: np.ndarray  # (n_w,)
+    t_s: np.ndarray  # (n_t,)
+    roll_rad: np.ndarray  # (n_v, n_w, n_t)
+    steer_rad: np.ndarray
+    t_end_s: np.ndarray  # (n_v, n_w)
+    fell: np.ndarray  # (n_v, n_w) bool
+
+
+def _truncate_at_fall(roll: np.ndarray, steer: np.ndarray, t: np.ndarray, fall_roll_rad: float):
+    bad = ~np.isfinite(roll) | (np.abs(roll) >= fall_roll_rad) | ~np.isfinite(steer)
+    fell = bad.any(axis=-1)
+    first = np.where(fell, bad.argmax(axis=-1), len(t))
+    mask = np.arange(len(t)) >= first[..., None]
+    roll = np.where(mask, np.nan, roll)
+    steer = np.where(mask, np.nan, steer)
+    t_end = np.where(fell, t[np.maximum(first - 1, 0)], t[-1])
+    return roll, steer, t_end, fell
+
+
+def analytic_time_solution(
+    model: LinearModel,
+    speed_m_s: np.ndarray,
+    omega_rad_s: np.ndarray,
+    harmonics: Harmonics,
+    t_s: np.ndarray,
+    fall_roll_rad: float = np.pi / 2,
+) -> TimeSolution:
+    """Exact time solution, particular + homogeneous, zero initial state (Eq 3.9, 3.16-3.18).
+
+    The homogeneous part ``x_h(t) = sum_i c_i xi_i exp(lambda_i t)`` uses the eigenvalues and
+    eigenvectors of the state matrix at each speed; ``c`` solves ``x_p(0) + x_h(0) = 0``. This
+    is Eq 3.16-3.17 written with complex exponentials (the real form there is the same sum).
+    Vectorised over cadences and time; one small loop over speeds bounds the memory.
+
+    Parameters
+    ----------
+    speed_m_s, omega_rad_s
+        1-D grids.
+    t_s
+        Sample times, starting at 0.
+    fall_roll_rad
+        The record of a run ends where ``|roll|`` first reaches this (the bicycle fell).
+    """
+    v_grid = np.asarray(speed_m_s, float)
+    w_grid = np.asarray(omega_rad_s, float)
+    t = np.asarray(t_s, float)
+    n, _ = _coefficients(harmonics)
+    roll_out = np.empty((len(v_grid), len(w_grid), len(t)))
+    steer_out = np.empty_like(roll_out)
+    lam_all, vec_all = np.linalg.eig(state_matrix(model, v_grid))  # (n_v, 4), (n_v, 4, 4)
+    for i, v in enumerate(v_grid):
+        rq, sq = particular_solution(model, v, w_grid, harmonics)  # (n_w, k)
+        q = np.stack([rq, sq], axis=-2)  # (n_w, 2, k)
+        freq = w_grid[:, None] * n[None, :]  # (n_w, k)
+        x0 = np.concatenate([q.sum(-1).real, (1j * freq[:, None, :] * q).sum(-1).real], axis=-1)
+        lam, vec = lam_all[i], vec_all[i]
+        c = np.linalg.solve(vec, -x0.T).T  # (n_w, 4)
+        with np.errstate(over="ignore", invalid="ignore"):
+            # cap the growth: a run has fallen long before exp(700); keeps 0 * growth = 0
+            expo = np.multiply.outer(lam, t)
+            hom = np.exp(np.minimum(expo.real, 700.0) + 1j * expo.imag)  # (4, n_t)
+            qh = np.einsum("wm,jm,mt->wjt", c, vec[0:2, :], hom).real  # (n_w, 2, n_t)
+            ph = np.exp(1j * freq[..., None] * t)  # (n_w, k, n_t)
+            qp = np.einsum("wjk,wkt->wjt", q, ph).real
+            x = qh + qp
+        roll_out[i], steer_out[i] = x[:, 0], x[:, 1]
+    roll_out, steer_out, t_end, fell = _truncate_at_fall(roll_out, steer_out, t, fall_roll_rad)
+    return TimeSolution(v_grid, w_grid, t, roll_out, steer_out, t_end, fell)
+
+
+def numerical_time_solution(
+    model: LinearModel,
+    speed_m_s: float,
+    omega_rad_s: float,
+    harmonics: Harmonics,
+    t_s: np.ndarray,
+    *,
+    rtol: float = 1e-3,
+    atol: float = 1e-6,
+    fall_roll_rad: float = np.pi / 2,
+    method: str = "RK45",
+) -> tuple[np.ndarray, np.ndarray, float, bool]:
+    """Numerical integration of the linear model from rest (LN; Sec 3.1.2.1, ode45 check).
+
+    ``scipy.integrate.solve_ivp`` (RK45 = Dormand-Prince, as Matlab's ode45) with a terminal
+    event at ``|roll| = fall_roll_rad``; what was simulated before the fall is kept.
+
+    Returns
+    -------
+    roll, steer, t_end_s, fell
+        Samples at ``t_s`` (NaN after the fall), the last simulated time and the fall flag.
+    """
+    n, coef = _coefficients(harmonics)
+    a = state_matrix(model, speed_m_s)
+    minv = np.linalg.inv(model.M)
+    amp = (minv @ coef.T).T * (n * omega_rad_s)[:, None] ** 2  # (k, 2) complex, M^-1 f
+    freq = n * omega_rad_s
+
+    def rhs(t: float, x: np.ndarray) -> np.ndarray:
+        acc = np.real(np.exp(1j * freq * t) @ amp)
+        dx = a @ x
+        dx[2:] += acc
+        return dx
+
+    def fall(t: float, x: np.ndarray) -> float:
+        return abs(x[0]) - fall_roll_rad
+
+    fall.terminal = True
+    t = np.asarray(t_s, float)
+    sol = solve_ivp(rhs, (t[0], t[-1]), np.zeros(4), method=method, t_eval=t, rtol=rtol,
+                    atol=atol, events=fall)
+    if sol.status == -1:
+        raise RuntimeError(f"integration failed at v={speed_m_s}, w={omega_rad_s}: {sol.message}")
+    roll = np.full(len(t), np.nan)
+    steer = np.full(len(t), np.nan)
+    m = len(sol.t)
+    roll[:m], steer[:m] = sol.y[0], sol.y[1]
+    fell = sol.status == 1
+    t_end = float(sol.t_events[0][0]) if fell else float(t[-1])
+    return roll, steer, t_end, fell
+
+
+def numerical_time_solutions(
+    model: LinearModel, speed_m_s: np.ndarray, omega_rad_s: np.ndarray, harmonics: Harmonics,
+    t_s: np.ndarray, **kwargs,
+) -> TimeSolution:
+    """:func:`numerical_time_solution` on every grid point (a simulation sweep: one run each)."""
+    v_grid = np.asarray(speed_m_s, float)
+    w_grid = np.asarray(omega_rad_s, float)
+    t = np.asarray(t_s, float)
+    roll = np.empty((len(v_grid), len(w_grid), len(t)))
+    steer = np.empty_like(roll)
+    t_end = np.empty((len(v_grid), len(w_grid)))
+    fell = np.zeros((len(v_grid), len(w_grid)), bool)
+    for i, v in enumerate(v_grid):
+        for j, w in enumerate(w_grid):
+            roll[i, j], steer[i, j], t_end[i, j], fell[i, j] = numerical_time_solution(
+                model, v, w, harmonics, t, **kwargs)
+    return TimeSolution(v_grid, w_grid, t, roll, steer, t_end, fell)
+
+
+def cadence_amplitudes(sol: TimeSolution, sample_rate_hz: float, window: str | None = "hann",
+                       min_samples: int = 2, chunk: int = 32) -> tuple[np.ndarray, np.ndarray]:
+    """Hann-windowed DFT amplitude at the cadence of each time solution (Sec 3.1.2.1.1).
+
+    Each run is analysed over what was simulated (up to its fall). Runs at zero cadence have
+    zero forcing and get amplitude 0.
+
+    Returns
+    -------
+    roll_amp_rad, steer_amp_rad
+        Shape (n_v, n_w).
+    """
+    n_v, n_w = sol.t_end_s.shape
+    roll_amp = np.zeros((n_v, n_w))
+    steer_amp = np.zeros((n_v, n_w))
+    valid = np.isfinite(sol.roll_rad)
+    n_valid = valid.sum(axis=-1)
+    for length in np.unique(n_valid):  # group runs of equal record length: one batched DFT each
+        sel = n_valid == length
+        if length < min_samples:
+            roll_amp[sel] = np.nan
+            steer_amp[sel] = np.nan
+            continue
+        f_hz = np.broadcast_to(sol.omega_rad_s[None, :], (n_v, n_w))[sel] / (2 * np.pi)
+        roll_sel = sol.roll_rad[sel, :length]
+        steer_sel = sol.steer_rad[sel, :length]
+        r_out = np.empty(len(f_hz))
+        s_out = np.empty(len(f_hz))
+        for lo in range(0, len(f_hz), chunk):  # bounded memory: chunk x length kernel
+            hi = lo + chunk
+            r_out[lo:hi] = np.abs(spectral.coefficient_at(roll_sel[lo:hi], sample_rate_hz,
+                                                          f_hz[lo:hi], window))
+            s_out[lo:hi] = np.abs(spectral.coefficient_at(steer_sel[lo:hi], sample_rate_hz,
+                                                          f_hz[lo:hi], window))
+        roll_amp[sel] = r_out
+        steer_amp[sel] = s_out
+    zero = sol.omega_rad_s == 0
+    roll_amp[:, zero] = 0.0
+    steer_amp[:, zero] = 0.0
+    return roll_amp, steer_amp
+
+
+def grid(step: float, maximum: float) -> np.ndarray:
+    """``0:step:maximum`` as in Matlab (the end point included when it falls on the grid)."""
+    count = int(np.floor(maximum / step + 1e-9)) + 1
+    return np.arange(count) * step
