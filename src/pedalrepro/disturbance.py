@@ -106,3 +106,226 @@ def torque_harmonics(bicycle: str, com: str = "O", harmonics=(1, 3, 5), *,
     scale = geometry.leg_mass_kg * geometry.hip_width_m
     return TorqueHarmonics(n=n, roll=scale * z_l, steer=-steer_factor(bicycle) * scale * x_l,
                            bicycle=bicycle, com=com)
+
+
+#: Lateral placement of the leg masses: ``"lumped"`` = the leg COM at ``y = +-l_hh / 2``
+#: (Eq 2.21-2.24; reproduces the published NRMSDs, errata item 4); ``"segments"`` = each segment
+#: at its own ``y`` of Eq B.18-B.23 (crank ``+-l_hh / 4``, shank and thigh ``+-l_hh / 2``).
+LATERAL_MODELS: tuple[str, ...] = ("lumped", "segments")
+
+
+def segment_pitch_inertia_kg_m2(geometry: legs.LegGeometry) -> dict[str, float]:
+    """Pitch inertia of crank, shank and thigh about their COMs (``legs.yaml`` ``segment_inertia``).
+
+    Only the slender-rod model ``I = m l^2 / 12`` is defined (see the module docstring).
+    """
+    model = params.legs().get("segment_inertia", {}).get("model", "slender_rod")
+    if model != "slender_rod":
+        raise ValueError(f"legs.yaml segment_inertia model {model!r} is not known: use slender_rod")
+    m, length = legs.segment_masses_kg(geometry), legs.segment_lengths_m(geometry)
+    return {s: m[s] * length[s] ** 2 / 12.0 for s in legs.SEGMENTS}
+
+
+def _lateral_y_m(geometry: legs.LegGeometry, lateral: str) -> dict[str, float]:
+    """Right-leg ``y`` of each segment COM (the left leg mirrors it)."""
+    if lateral not in LATERAL_MODELS:
+        raise ValueError(f"unknown lateral model {lateral!r}: expected one of {LATERAL_MODELS}")
+    half = geometry.hip_width_m / 2.0
+    if lateral == "lumped":
+        return dict.fromkeys(legs.SEGMENTS, half)
+    return {"crank": half / 2.0, "shank": half, "thigh": half}
+
+
+def _point_mass_torque(mass_kg: float, y_m: float, pos_xz: np.ndarray,
+                       acc_xz: np.ndarray) -> np.ndarray:
+    """d'Alembert torque ``-r x (m a)`` of a point mass at ``(x, y, z)`` with ``a = (ax, 0, az)``.
+
+    Returns ``(n_t, 3)``: roll (about x), pitch (about y), yaw (about z), about the crank axis A.
+    """
+    x, z = pos_xz[:, 0], pos_xz[:, 1]
+    ax, az = acc_xz[:, 0], acc_xz[:, 1]
+    return -mass_kg * np.stack([y_m * az, z * ax - x * az, -y_m * ax], axis=-1)
+
+
+def dalembert_forces_n(right: legs.LegMotion, left: legs.LegMotion,
+                       geometry: legs.LegGeometry) -> np.ndarray:
+    """d'Alembert force of both legs, Eq 2.8: ``F = -m_L (a_riL + a_leL)``; ``(n_t, 3)``, z down."""
+    m_l = geometry.leg_mass_kg
+    f_xz = -m_l * (right.com_acc + left.com_acc)
+    return np.stack([f_xz[:, 0], np.zeros(len(f_xz)), f_xz[:, 1]], axis=-1)
+
+
+def dalembert_torques_nm(right: legs.LegMotion, left: legs.LegMotion,
+                         geometry: legs.LegGeometry, *, lateral: str = "lumped",
+                         inertia: bool = True) -> np.ndarray:
+    """d'Alembert torques of both legs about the crank axis, Eq 2.9; ``(n_t, 3)`` roll/pitch/yaw.
+
+    ``lateral="lumped"`` is Eq 2.9 as printed: each leg a point mass ``m_L`` at its COM, at
+    ``y = +-l_hh / 2``, plus the segments' rotational inertia. ``lateral="segments"`` sums every
+    segment as a rigid body at its own position (Eq B.18-B.23), the exact torque of the four-bar.
+    ``inertia`` adds ``-I theta''`` of the six segments to the pitch torque (slender rods).
+    """
+    y = _lateral_y_m(geometry, lateral)
+    torque = np.zeros((right.t_s.size, 3))
+    for motion, side in ((right, 1.0), (left, -1.0)):
+        if lateral == "lumped":
+            torque += _point_mass_torque(geometry.leg_mass_kg, side * y["crank"], motion.com,
+                                         motion.com_acc)
+        else:
+            masses = legs.segment_masses_kg(geometry)
+            for s in legs.SEGMENTS:
+                torque += _point_mass_torque(masses[s], side * y[s], motion.segment_com[s],
+                                             motion.segment_com_acc[s])
+        if inertia:
+            inertias = segment_pitch_inertia_kg_m2(geometry)
+            for s in legs.SEGMENTS:
+                torque[:, 1] -= inertias[s] * motion.pitch_acc_rad_s2[s]
+    return torque
+
+
+def generalised_torques_nm(torque_nm: np.ndarray, bicycle: str) -> np.ndarray:
+    """Generalised roll and steer torques from Cartesian ones, Eq 2.15; ``(n_t, 2)``.
+
+    ``T_phi = T_x``, ``T_delta = (c cos(lam) / w) T_z`` (virtual power with ``theta-dot = 0`` and
+    ``psi-dot = cos(lam) (v delta + c delta-dot) / w``, Eq 2.10-2.14).
+    """
+    return np.stack([torque_nm[:, 0], steer_factor(bicycle) * torque_nm[:, 2]], axis=-1)
+
+
+def nrmsd_percent(reference: np.ndarray, approximation: np.ndarray) -> np.ndarray:
+    """Normalised root-mean-square deviation of Eq 2.5 (per column), in percent.
+
+    ``sqrt(mean((x - x_simple)^2)) / (max(x) - min(x)) * 100`` over one sampled period.
+    """
+    x = np.asarray(reference, dtype=float)
+    s = np.asarray(approximation, dtype=float)
+    rng = np.ptp(x, axis=0)
+    if np.any(rng == 0):
+        raise ValueError("NRMSD is undefined for a constant reference signal (zero range)")
+    return np.sqrt(np.mean((x - s) ** 2, axis=0)) / rng * 100.0
+
+
+@dataclass(frozen=True)
+class PedallingDisturbance:
+    """The pedalling disturbance over one revolution, four-bar vs cadence-only (Sec 2.2).
+
+    Arrays are sampled at ``t_s``; ``crank_angle_rad = omega t``. ``force_n`` and ``torque_nm``
+    are ``(n_t, 3)`` (x forward, y right, z down; roll, pitch, yaw), ``generalised_nm`` is
+    ``(n_t, 2)`` (roll, steer). Suffix ``_simple``: the cadence-only skew-elliptical COM path of
+    Eq 2.4 (first harmonic of the DFT), a point mass ``m_L`` per leg without segment rotation.
+    """
+
+    bicycle: str
+    geometry: legs.LegGeometry
+    cadence_rad_s: float
+    t_s: np.ndarray
+    crank_angle_rad: np.ndarray
+    right: legs.LegMotion
+    left: legs.LegMotion
+    com_simple: np.ndarray
+    com_simple_vel: np.ndarray
+    com_simple_acc: np.ndarray
+    force_n: np.ndarray
+    torque_nm: np.ndarray
+    generalised_nm: np.ndarray
+    force_simple_n: np.ndarray
+    torque_simple_nm: np.ndarray
+    generalised_simple_nm: np.ndarray
+
+
+def pedalling_disturbance(bicycle: str = "hybrid", com: str = "O",
+                          cadence_rad_s: float = 2.0 * np.pi, *,
+                          samples_per_revolution: int = 3600, lateral: str = "lumped",
+                          inertia: bool = True,
+                          geometry: legs.LegGeometry | None = None) -> PedallingDisturbance:
+    """Leg kinematics, d'Alembert forces/torques and generalised torques over one revolution.
+
+    Parameters
+    ----------
+    bicycle
+        Sets the leg geometry (unless ``geometry`` is given) and the steer factor (Eq 2.15).
+    com
+        ``"O"`` or ``"W"`` segment COM fractions.
+    cadence_rad_s
+        ``omega`` (default 60 rpm, Sec 2.1.1).
+    samples_per_revolution
+        Samples of one revolution (even, so the left leg is an exact half-period shift).
+    lateral, inertia
+        See :func:`dalembert_torques_nm`.
+    geometry
+        Override of the leg geometry (e.g. another seat height).
+    """
+    if samples_per_revolution % 2:
+        raise ValueError(f"samples_per_revolution must be even, got {samples_per_revolution}")
+    geo = geometry if geometry is not None else legs.leg_geometry(bicycle, com)
+    w = float(cadence_rad_s)
+    right = legs.leg_motion(geo, w, samples_per_revolution=samples_per_revolution)
+    left = legs.leg_motion(geo, w, samples_per_revolution=samples_per_revolution, left=True)
+    force = dalembert_forces_n(right, left, geo)
+    torque = dalembert_torques_nm(right, left, geo, lateral=lateral, inertia=inertia)
+
+    # cadence-only motion, Eq 2.4: mean + first DFT harmonic; the left leg is pi out of phase
+    mean = legs.fourier_mean(right.com)
+    c1 = legs.fourier_coefficients(right.com, (1,))[0]
+    phi = right.crank_angle_rad
+    simple = [np.stack([legs.harmonic_signal(mean[k] if d == 0 else 0.0, [c1[k]], (1,), phi, d, w)
+                        for k in range(2)], axis=-1) for d in range(3)]
+    simple_left = [np.stack([legs.harmonic_signal(mean[k] if d == 0 else 0.0, [-c1[k]], (1,), phi,
+                                                  d, w) for k in range(2)], axis=-1)
+                   for d in range(3)]
+    m_l = geo.leg_mass_kg
+    f_xz = -m_l * (simple[2] + simple_left[2])
+    force_simple = np.stack([f_xz[:, 0], np.zeros(len(f_xz)), f_xz[:, 1]], axis=-1)
+    y = geo.hip_width_m / 2.0
+    torque_simple = (_point_mass_torque(m_l, y, simple[0], simple[2])
+                     + _point_mass_torque(m_l, -y, simple_left[0], simple_left[2]))
+    return PedallingDisturbance(
+        bicycle=bicycle, geometry=geo, cadence_rad_s=w, t_s=right.t_s, crank_angle_rad=phi,
+        right=right, left=left, com_simple=simple[0], com_simple_vel=simple[1],
+        com_simple_acc=simple[2], force_n=force, torque_nm=torque,
+        generalised_nm=generalised_torques_nm(torque, bicycle), force_simple_n=force_simple,
+        torque_simple_nm=torque_simple,
+        generalised_simple_nm=generalised_torques_nm(torque_simple, bicycle))
+
+
+def section2_numbers(bicycle: str = "hybrid", cadence_rad_s: float = 2.0 * np.pi,
+                     samples_per_revolution: int = 3600,
+                     lateral: str = "lumped") -> dict[str, float]:
+    """The quantitative claims of Sec 2.2 computed by the model (names in SI/percent units).
+
+    Returns
+    -------
+    dict
+        ``nrmsd_com_x_percent``, ``nrmsd_com_z_percent`` (Eq 2.5, right-leg COM),
+        ``nrmsd_roll_torque_percent``, ``nrmsd_steer_torque_percent`` (generalised torques),
+        ``force_x_peak_n`` (largest ``|F_x|``), ``force_x_max_n``, ``force_x_min_n``,
+        ``force_x_2w_amplitude_n``, ``force_z_peak_n``, ``force_z_2w_amplitude_n``,
+        ``ow_change_x1_percent``, ``ow_change_z1_percent`` (first-harmonic COM amplitude, O vs W,
+        relative to O), ``ow_change_higher_percent`` (harmonics n >= 2, mean over X and Z).
+    """
+    d = pedalling_disturbance(bicycle, "O", cadence_rad_s,
+                              samples_per_revolution=samples_per_revolution, lateral=lateral)
+    nr_com = nrmsd_percent(d.right.com, d.com_simple)
+    nr_gen = nrmsd_percent(d.generalised_nm, d.generalised_simple_nm)
+    f2 = np.abs(legs.fourier_coefficients(d.force_n[:, [0, 2]], (2,))[0])
+    xo, zo = legs.com_fourier(legs.leg_geometry(bicycle, "O"), (1, 2, 3, 4, 5),
+                              samples_per_revolution)
+    xw, zw = legs.com_fourier(legs.leg_geometry(bicycle, "W"), (1, 2, 3, 4, 5),
+                              samples_per_revolution)
+    higher = np.concatenate([1 - np.abs(xw[1:]) / np.abs(xo[1:]),
+                             1 - np.abs(zw[1:]) / np.abs(zo[1:])])
+    return {
+        "nrmsd_com_x_percent": float(nr_com[0]),
+        "nrmsd_com_z_percent": float(nr_com[1]),
+        "nrmsd_roll_torque_percent": float(nr_gen[0]),
+        "nrmsd_steer_torque_percent": float(nr_gen[1]),
+        "force_x_peak_n": float(np.max(np.abs(d.force_n[:, 0]))),
+        "force_x_max_n": float(np.max(d.force_n[:, 0])),
+        "force_x_min_n": float(np.min(d.force_n[:, 0])),
+        "force_x_2w_amplitude_n": float(f2[0]),
+        "force_z_peak_n": float(np.max(np.abs(d.force_n[:, 2]))),
+        "force_z_2w_amplitude_n": float(f2[1]),
+        "ow_change_x1_percent": float(100 * (1 - abs(xw[0]) / abs(xo[0]))),
+        "ow_change_z1_percent": float(100 * (1 - abs(zw[0]) / abs(zo[0]))),
+        "ow_change_higher_percent": float(100 * np.mean(higher)),
+    }
