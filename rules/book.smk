@@ -1,14 +1,36 @@
 # The jupyter-book: executes notebooks/ (which read results/ and call pedalrepro.figures) and
-# renders HTML, strictly (warnings are errors; a failing cell fails the build).
+# renders HTML, strictly (warnings are errors; a failing cell fails the build: jupyter-book exits 1
+# with --keep-going once all pages are tried, and the shell rule fails with it).
 
 BOOK_INDEX = f"{R}/book/_build/html/index.html"
+MATHJAX = "book/_mathjax/mathjax/tex-mml-chtml.js"
+
+
+rule mathjax:
+    input:
+        "package.json",
+        "package-lock.json",
+    output:
+        MATHJAX,
+    log:
+        logfile("mathjax"),
+    message:
+        "Copying the vendored MathJax 3 (node_modules, from `npm ci`) into book/_mathjax"
+    shell:
+        "(test -f node_modules/mathjax/es5/tex-mml-chtml.js"
+        " || {{ echo 'MathJax is missing: run npm ci (bash scripts/setup.sh)'; exit 1; }}"
+        " && mkdir -p book/_mathjax/mathjax"
+        " && cp -r node_modules/mathjax/es5/output book/_mathjax/mathjax/"
+        " && cp node_modules/mathjax/es5/tex-mml-chtml.js {output}) > {log} 2>&1"
 
 
 rule book:
     input:
         BOOK_INPUTS,
+        MATHJAX,
         "book/_config.yml",
         "book/_toc.yml",
+        "data/figure_ids.yaml",
         sorted(str(p) for p in Path("book").glob("*.md")),
         sorted(str(p) for p in Path("notebooks").glob("*.ipynb")),
         pkg("report"),
@@ -18,6 +40,7 @@ rule book:
     log:
         logfile("book"),
     message:
-        "Building the jupyter-book (strict) into {R}/book/_build/html"
+        "Building the jupyter-book (strict) into {R}/book/_build/html (log: {log})"
     shell:
         "jupyter-book build --all -W -n --keep-going book/ --path-output {R}/book > {log} 2>&1"
+        " || {{ tail -n 40 {log} >&2; exit 1; }}"

@@ -90,7 +90,7 @@ def write_rows(rows: Iterable[Row], path: str | Path) -> pd.DataFrame:
 
 def combine(parts: Sequence[str | Path], out: str | Path) -> pd.DataFrame:
     """Join report parts into the reproduction report, checking columns and statuses."""
-    frames = []
+    frames = [pd.DataFrame(columns=list(COLUMNS))]
     for part in parts:
         df = pd.read_csv(part, dtype=str, keep_default_na=False)
         if list(df.columns) != list(COLUMNS):
@@ -100,6 +100,8 @@ def combine(parts: Sequence[str | Path], out: str | Path) -> pd.DataFrame:
             raise ValueError(f"{part}: unknown status {sorted(bad)}")
         frames.append(df)
     report = pd.concat(frames, ignore_index=True)
+    if report.isna().any().any():
+        raise ValueError("reproduction report has missing cells")
     Path(out).parent.mkdir(parents=True, exist_ok=True)
     report.to_csv(out, index=False)
     return report
@@ -109,3 +111,102 @@ def summary(report: pd.DataFrame) -> dict[str, int]:
     """Count of rows per status (every status present, zeros included)."""
     counts = report["status"].value_counts()
     return {s: int(counts.get(s, 0)) for s in STATUSES}
+
+
+#: Thesis chapters in book order (the report and the book group rows by these).
+CHAPTERS: dict[str, str] = {
+    "2": "2 Pedalling disturbance",
+    "3": "3 Open-loop response",
+    "4": "4 Closed loop and validation",
+    "5": "5 Conclusions",
+    "appendix": "Appendices",
+    "other": "Other",
+}
+
+
+def thesis_chapter(section: str) -> str:
+    """Key of :data:`CHAPTERS` for a report row's ``section`` string.
+
+    ``"2.2.1"``, ``"3.2.4 1a"``, ``"Fig 3.12"`` -> the leading chapter digit; ``"Appendix B"``,
+    ``"Table D.1"``, ``"B.3"``, ``"Fig G.7"`` -> ``"appendix"``; anything else -> ``"other"``.
+
+    Examples
+    --------
+    >>> thesis_chapter("2.2.1"), thesis_chapter("Table D.1"), thesis_chapter("Table 4.1")
+    ('2', 'appendix', '4')
+    """
+    import re
+
+    text = str(section).strip()
+    if re.match(r"(?i)^appendix\b", text):
+        return "appendix"
+    text = re.sub(r"(?i)^(sec(tion)?|table|fig(ure)?|eq(uation)?)\.?\s*", "", text)
+    m = re.match(r"([0-9]+|[A-H])(?:\.[0-9]+)*\b", text)
+    if m is None:
+        return "other"
+    head = m.group(1)
+    if head.isalpha():
+        return "appendix"
+    return head if head in CHAPTERS else "other"
+
+
+def figure_ids() -> pd.DataFrame:
+    """The thesis figure and table ids the book should show (``data/figure_ids.yaml``, copied from
+    the project's reproduction checklist), in thesis order: columns id, thesis, chapter, what."""
+    import yaml
+
+    from . import paths
+
+    with open(paths.DATA / "figure_ids.yaml", encoding="utf-8") as f:
+        ids = yaml.safe_load(f)["ids"]
+    return pd.DataFrame(ids, columns=["id", "thesis", "chapter", "what"]).astype(str)
+
+
+def figure_coverage() -> pd.DataFrame:
+    """Which ids of :func:`figure_ids` the pipeline has produced (``results/figures/<id>.png`` or
+    ``results/tables/<id>.csv`` exists): the id table plus a boolean column ``present``."""
+    from . import paths
+
+    ids = figure_ids()
+    ids["present"] = [
+        (paths.table(i) if i.startswith("table_") else paths.figure(i)).exists() for i in ids["id"]
+    ]
+    return ids
+
+
+def load() -> pd.DataFrame:
+    """The joined reproduction report (``results/tables/reproduction_report.csv``), all strings."""
+    from . import paths
+
+    return pd.read_csv(paths.table("reproduction_report"), dtype=str, keep_default_na=False)
+
+
+def select(report: pd.DataFrame, section: str = "", *words: str) -> pd.DataFrame:
+    """Rows whose ``section`` starts with ``section`` and whose item contains every word
+    (case-insensitive); how the book's text points at report rows without retyping values.
+
+    Examples
+    --------
+    >>> df = pd.DataFrame([Row("NRMSD vertical COM", "2.2.1", "3.6", "3.57", "abs 0.05",
+    ...                        REPRODUCED).__dict__])
+    >>> len(select(df, "2.2", "vertical")), len(select(df, "3"))
+    (1, 0)
+    """
+    keep = report["section"].str.strip().str.startswith(section)
+    for word in words:
+        keep &= report["item"].str.contains(word, case=False, regex=False)
+    return report[keep]
+
+
+def rows_html(rows: pd.DataFrame, empty: str = "No report row yet.") -> str:
+    """HTML table of report rows with the status coloured (for notebooks and book pages)."""
+    if rows.empty:
+        return f"<p><em>{empty}</em></p>"
+    colours = {REPRODUCED: "#2e7d32", DIFFERS: "#c62828", NOT_REPRODUCIBLE: "#6d6d6d"}
+    import html
+
+    body = rows[list(COLUMNS)].astype(str).map(html.escape)
+    body["status"] = [f'<span style="color:{colours[s]};font-weight:bold">{s}</span>'
+                      for s in body["status"]]
+    table = body.to_html(index=False, border=0, classes="table", escape=False)
+    return f'<div style="overflow-x:auto">{table}</div>'

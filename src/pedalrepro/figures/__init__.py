@@ -40,3 +40,94 @@ def synthetic_stamp(fig: matplotlib.figure.Figure, reason: str = "") -> None:
         text += f": {reason}"
     fig.text(0.5, 0.995, text, ha="center", va="top", color="crimson", fontsize=9,
              fontweight="bold")
+
+
+def _thesis_label(figure_id: str) -> str:
+    """Thesis number of a figure/table id: ``"fig_2_3"`` -> ``"Figure 2.3"``, ``"table_d_1"`` ->
+    ``"Table D.1"``."""
+    kind, _, number = figure_id.partition("_")
+    if kind not in ("fig", "table") or not number:
+        raise ValueError(f"figure id {figure_id!r} is not fig_<chapter>_<n> or table_<chapter>_<n>")
+    parts = [p.upper() if p.isalpha() else p for p in number.split("_")]
+    return ("Table " if kind == "table" else "Figure ") + ".".join(parts)
+
+
+def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | None = None,
+                caption: str = "") -> str:
+    """The HTML element the book shows for one figure or table id (see CONTRIBUTING.md,
+    "Figures in the book"): ``<figure class="pedalrepro-figure" id="pedalrepro-<id>"
+    data-figure-id="<id>">`` holding an ``<img alt="<id> ...">`` (PNG embedded as a data URI, so
+    the page needs no other file) or an HTML table, and a caption led by the thesis number."""
+    import base64
+    import html
+
+    label = _thesis_label(figure_id)
+    cap = f"<strong>{label} of the thesis</strong> (<code>{figure_id}</code>)"
+    if caption:
+        cap += ". " + html.escape(caption)
+    if png is not None:
+        data = base64.b64encode(png).decode("ascii")
+        body = (f'<img src="data:image/png;base64,{data}" alt="{figure_id}: {label}" '
+                'style="max-width:100%;height:auto">')
+    elif table_html is not None:
+        body = f'<div class="pedalrepro-table" style="overflow-x:auto">{table_html}</div>'
+    else:
+        raise ValueError("figure_html needs png= or table_html=")
+    return (f'<figure class="pedalrepro-figure" id="pedalrepro-{figure_id}" '
+            f'data-figure-id="{figure_id}">{body}<figcaption>{cap}</figcaption></figure>')
+
+
+def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str = "{:.6g}"):
+    """Display a figure or table in a notebook so the book shows it under its thesis id.
+
+    Parameters
+    ----------
+    obj : matplotlib.figure.Figure, pandas.DataFrame, str, pathlib.Path or None
+        The figure (it is closed afterwards, so the inline backend does not show it twice), a
+        table, a PNG/CSV file, or None to show the pipeline's own ``results/figures/<id>.png`` or
+        ``results/tables/<id>.csv``.
+    figure_id : str
+        The id of FIGURES.md / ``data/figure_ids.yaml`` (``"fig_2_3"``, ``"table_d_1"``).
+    caption : str
+        The caption in our own words; the thesis number is prepended.
+
+    Examples
+    --------
+    >>> from pedalrepro import figures
+    >>> with figures.style():                                    # doctest: +SKIP
+    ...     fig = figures.section2.fig_2_3(kinematics)
+    >>> figures.show(fig, "fig_2_3", "Right-leg COM at 60 rpm.")   # doctest: +SKIP
+    """
+    import io
+
+    import matplotlib.pyplot as plt
+    import pandas as pd
+    from IPython.display import display
+
+    if not figure_id:
+        raise ValueError("figures.show needs the figure id (e.g. 'fig_2_3')")
+    if obj is None:
+        fig_path, table_path = paths.figure(figure_id), paths.table(figure_id)
+        obj = table_path if figure_id.startswith("table_") else fig_path
+        if not Path(obj).exists():
+            raise FileNotFoundError(f"{figure_id}: {obj} does not exist (run the pipeline)")
+    bundle = {"text/plain": f"{_thesis_label(figure_id)} ({figure_id})"}
+    if isinstance(obj, (str, Path)) and str(obj).endswith(".csv"):
+        obj = pd.read_csv(obj)
+    if isinstance(obj, pd.DataFrame):
+        table = obj.to_html(index=False, border=0, classes="table",
+                            float_format=lambda x: float_format.format(x))
+        bundle["text/html"] = figure_html(figure_id, table_html=table, caption=caption)
+    else:
+        if isinstance(obj, (str, Path)):
+            png = Path(obj).read_bytes()
+        else:
+            buf = io.BytesIO()
+            obj.savefig(buf, format="png")
+            plt.close(obj)
+            png = buf.getvalue()
+        import base64
+
+        bundle["text/html"] = figure_html(figure_id, png, caption=caption)
+        bundle["image/png"] = base64.b64encode(png).decode("ascii")
+    display(bundle, raw=True)
