@@ -37,10 +37,12 @@ rule book:
         sorted(str(p) for p in Path(PKG, "figures").glob("*.py")),
     output:
         BOOK_INDEX,
+    params:
+        out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
     log:
         logfile("book"),
     message:
-        "Building the jupyter-book (strict) into {R}/book/_build/html (log: {log})"
+        "Building the jupyter-book (strict) into {params.out}/_build/html (log: {log})"
     shell:
-        "jupyter-book build --all -W -n --keep-going book/ --path-output {R}/book > {log} 2>&1"
+        "jupyter-book build --all -W -n --keep-going book/ --path-output {params.out} > {log} 2>&1"
         " || {{ tail -n 40 {log} >&2; exit 1; }}"

@@ -11,7 +11,7 @@ validate(config, "../config/schema.yaml")
 # Every script, notebook and the book build read the results folder from this variable
 # (pedalrepro.paths.results()).
 R = config["results_dir"].rstrip("/")
-os.environ["PEDALREPRO_RESULTS"] = str(Path(R).resolve())
+os.environ.update(PEDALREPRO_RESULTS=str(Path(R).resolve()))
 
 PKG = "src/pedalrepro"
 ROOT_DIR = Path(workflow.basedir)
