@@ -329,3 +329,43 @@ def section2_numbers(bicycle: str = "hybrid", cadence_rad_s: float = 2.0 * np.pi
         "ow_change_z1_percent": float(100 * (1 - abs(zw[0]) / abs(zo[0]))),
         "ow_change_higher_percent": float(100 * np.mean(higher)),
     }
+
+
+def to_arrays(d: PedallingDisturbance, spectrum_harmonics: int = 20) -> dict[str, np.ndarray]:
+    """Flatten a :class:`PedallingDisturbance` into named arrays (for an ``.npz`` file).
+
+    Keys (right leg unless prefixed ``left_``; planar arrays ``(n_t, 2)`` = x, z with z down):
+    ``t_s``, ``crank_angle_rad``, ``cadence_rad_s``, ``hip_width_m``, ``leg_mass_kg``,
+    ``com_m``, ``com_vel_m_s``, ``com_acc_m_s2`` and their ``*_simple_*`` (cadence-only)
+    counterparts, ``left_com_m``, ``left_com_simple_m``, ``pedal_m``, ``knee_m``, ``hip_m``,
+    ``segment_com_<s>_m`` and ``left_segment_com_<s>_m`` (s = crank, shank, thigh),
+    ``pitch_<s>_rad``, ``pitch_rate_<s>_rad_s``, ``pitch_acc_<s>_rad_s2``, ``force_n``,
+    ``force_simple_n`` (n_t, 3), ``torque_nm``, ``torque_simple_nm`` (n_t, 3; roll, pitch, yaw),
+    ``generalised_nm``, ``generalised_simple_nm`` (n_t, 2; roll, steer), and the COM position
+    spectrum ``spectrum_n`` (0..spectrum_harmonics), ``spectrum_com_amplitude_m`` (n, 2).
+    """
+    r, le = d.right, d.left
+    n = np.arange(spectrum_harmonics + 1)
+    amp = np.abs(legs.fourier_coefficients(r.com, n[1:]))
+    amp = np.vstack([np.abs(legs.fourier_mean(r.com))[None, :], amp])
+    out: dict[str, np.ndarray] = {
+        "t_s": d.t_s, "crank_angle_rad": d.crank_angle_rad,
+        "cadence_rad_s": np.array(d.cadence_rad_s), "hip_width_m": np.array(d.geometry.hip_width_m),
+        "leg_mass_kg": np.array(d.geometry.leg_mass_kg),
+        "com_m": r.com, "com_vel_m_s": r.com_vel, "com_acc_m_s2": r.com_acc,
+        "com_simple_m": d.com_simple, "com_simple_vel_m_s": d.com_simple_vel,
+        "com_simple_acc_m_s2": d.com_simple_acc,
+        "left_com_m": le.com, "left_com_simple_m": 2 * legs.fourier_mean(r.com) - d.com_simple,
+        "pedal_m": r.pedal, "knee_m": r.knee, "hip_m": r.hip,
+        "force_n": d.force_n, "force_simple_n": d.force_simple_n,
+        "torque_nm": d.torque_nm, "torque_simple_nm": d.torque_simple_nm,
+        "generalised_nm": d.generalised_nm, "generalised_simple_nm": d.generalised_simple_nm,
+        "spectrum_n": n, "spectrum_com_amplitude_m": amp,
+    }
+    for s in legs.SEGMENTS:
+        out[f"segment_com_{s}_m"] = r.segment_com[s]
+        out[f"left_segment_com_{s}_m"] = le.segment_com[s]
+        out[f"pitch_{s}_rad"] = r.pitch_rad[s]
+        out[f"pitch_rate_{s}_rad_s"] = r.pitch_rate_rad_s[s]
+        out[f"pitch_acc_{s}_rad_s2"] = r.pitch_acc_rad_s2[s]
+    return out
