@@ -1,0 +1,201 @@
+"""The book's plumbing: id-tagged figures, the figure-id list, report helpers, strict build."""
+
+from __future__ import annotations
+
+import base64
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import nbformat
+import pandas as pd
+import pytest
+import yaml
+
+from pedalrepro import figures, paths, report
+
+
+def _png_size(png: bytes) -> tuple[int, int]:
+    """Width and height from a PNG's IHDR chunk (independent of matplotlib)."""
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", png[16:24])
+
+
+def _captured_show(monkeypatch, *args, **kwargs) -> dict:
+    shown = []
+    monkeypatch.setattr("IPython.display.display", lambda obj, raw=False: shown.append(obj))
+    figures.show(*args, **kwargs)
+    assert len(shown) == 1
+    return shown[0]
+
+
+def test_show_figure_carries_its_id_and_the_image(monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(2.0, 1.0), dpi=50)  # 100 x 50 px (no tight bbox: plain rcParams)
+    with matplotlib.rc_context({"savefig.bbox": None, "savefig.dpi": 50}):
+        bundle = _captured_show(monkeypatch, fig, "fig_3_10", "Roll <amplitude> & steer.")
+    assert not plt.fignum_exists(fig.number)  # closed: the inline backend will not show it twice
+    html = bundle["text/html"]
+    assert 'data-figure-id="fig_3_10"' in html and 'id="pedalrepro-fig_3_10"' in html
+    assert 'alt="fig_3_10: Figure 3.10"' in html
+    assert "Figure 3.10 of the thesis" in html
+    assert "Roll &lt;amplitude&gt; &amp; steer." in html  # caption escaped
+    data = re.search(r'src="data:image/png;base64,([^"]+)"', html).group(1)
+    png = base64.b64decode(data)
+    assert _png_size(png) == (100, 50)
+    assert base64.b64decode(bundle["image/png"]) == png
+
+
+def test_show_table_and_saved_files(monkeypatch, tmp_path):
+    df = pd.DataFrame({"case": ["hybrid_O"], "amplitude_m": [0.0682594766]})
+    html = _captured_show(monkeypatch, df, "table_d_1")["text/html"]
+    assert 'data-figure-id="table_d_1"' in html and "Table D.1 of the thesis" in html
+    assert "0.0682595" in html and "<table" in html
+    # None -> the pipeline's own results/tables/<id>.csv
+    monkeypatch.setenv("PEDALREPRO_RESULTS", str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="table_4_1"):
+        figures.show(None, "table_4_1")
+    paths.table("table_4_1").parent.mkdir(parents=True)
+    df.to_csv(paths.table("table_4_1"), index=False)
+    html = _captured_show(monkeypatch, None, "table_4_1")["text/html"]
+    assert 'data-figure-id="table_4_1"' in html and "hybrid_O" in html
+    with pytest.raises(ValueError, match="figure id"):
+        figures.show(df, "")
+    with pytest.raises(ValueError, match="not fig_"):
+        figures.show(df, "figure2")
+
+
+def test_figure_id_list_follows_the_thesis():
+    ids = report.figure_ids()
+    # the checklist: Section 2 (8), Section 3 (50), Section 4 (12) result figures and tables
+    assert len(ids) == 70
+    assert ids["id"].is_unique
+    assert ids.groupby("chapter").size().to_dict() == {"2": 8, "3": 50, "4": 12}
+    assert all(t == figures._thesis_label(i) for i, t in zip(ids["id"], ids["thesis"], strict=True))
+    assert (ids["id"].str.startswith("table_").sum(), len(ids)) == (3, 70)
+    # thesis order within each chapter: main-text numbers ascend
+    main = ids[ids["id"].str.fullmatch(r"fig_\d_\d+")]
+    for _, grp in main.groupby("chapter"):
+        numbers = [int(i.rsplit("_", 1)[1]) for i in grp["id"]]
+        assert numbers == sorted(numbers)
+
+
+def test_figure_coverage_counts_result_files(monkeypatch, tmp_path):
+    monkeypatch.setenv("PEDALREPRO_RESULTS", str(tmp_path))
+    assert report.figure_coverage()["present"].sum() == 0
+    for fid in ("fig_2_3", "fig_g_7"):
+        paths.figure(fid).parent.mkdir(parents=True, exist_ok=True)
+        paths.figure(fid).write_bytes(b"png")
+    paths.table("table_d_1").parent.mkdir(parents=True, exist_ok=True)
+    paths.table("table_d_1").write_text("x\n1\n")
+    cov = report.figure_coverage()
+    assert sorted(cov.loc[cov["present"], "id"]) == ["fig_2_3", "fig_g_7", "table_d_1"]
+
+
+@pytest.mark.parametrize("section, chapter", [
+    ("2.2.1", "2"), ("Sec 2.2.2", "2"), ("3.2.4 1a", "3"), ("Fig 3.12", "3"),
+    ("3.2.1 / Fig 3.9", "3"), ("Table 4.1", "4"), ("4.3", "4"), ("5", "5"),
+    ("Appendix B", "appendix"), ("Table D.1", "appendix"), ("Fig G.7", "appendix"),
+    ("B.3", "appendix"), ("Hybrid", "other"), ("", "other"),
+])
+def test_report_rows_grouped_by_thesis_chapter(section, chapter):
+    assert report.thesis_chapter(section) == chapter
+
+
+def test_report_helpers(tmp_path):
+    empty = report.combine([], tmp_path / "r.csv")
+    assert list(empty.columns) == list(report.COLUMNS) and empty.empty
+    rows = [report.Row("NRMSD <vertical> COM", "2.2.1", "3.6", "3.57", "abs 0.05",
+                       report.REPRODUCED),
+            report.Row("Table 4.1 roll measured", "Table 4.1", "0.011", "", "n/a",
+                       report.NOT_REPRODUCIBLE, "treadmill data not available")]
+    df = report.write_rows(rows, tmp_path / "part.csv")
+    assert len(report.select(df, "2.2", "vertical")) == 1
+    assert len(report.select(df, "2.2", "horizontal")) == 0
+    assert len(report.select(df, "Table 4")) == 1
+    html = report.rows_html(df)
+    assert "NRMSD &lt;vertical&gt; COM" in html and html.count("<tr") == 3
+    assert "No row" in report.rows_html(df.iloc[:0], empty="No row")
+
+
+def test_book_pages_are_in_the_toc():
+    toc = yaml.safe_load((paths.BOOK / "_toc.yml").read_text())
+    text = json.dumps(toc)
+    for doc in ("intro", "notebooks/02_pedalling_disturbance", "notebooks/03_open_loop_response",
+                "notebooks/04_validation", "conclusions", "appendices",
+                "notebooks/reproduction_report", "deviations"):
+        assert f'"{doc}"' in text, doc
+    # the order of the thesis: 2 < 3 < 4 < 5 < appendices < report < deviations
+    order = [text.index(f'"{d}"') for d in ("notebooks/02_pedalling_disturbance",
+             "notebooks/03_open_loop_response", "notebooks/04_validation", "conclusions",
+             "appendices", "notebooks/reproduction_report", "deviations")]
+    assert order == sorted(order)
+
+
+def test_deviations_page_covers_every_erratum():
+    """Each of the 17 errata items has its own treatment (keywords of each item)."""
+    text = (paths.BOOK / "deviations.md").read_text()
+    keywords = ["Eq 2.3", "Crank mass", "Eq 2.2", "B.18-B.23", "Eq 2.13", "3.6 %",
+                "dependent on cadence", "About 12 N", "About 2 %", "Seat-tube angle",
+                "Fourier conventions", "Eq B.30", "Table ??", "0.77 m", "CR cadences",
+                "weave or capsize", "Hip width", "SYNTHETIC", "Model substitutes"]
+    assert [k for k in keywords if k not in text] == []
+
+
+def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProcess:
+    """The repository's book rule (rules/book.smk) on a temporary copy whose book holds only the
+    introduction and one notebook with ``cell_source``."""
+    root = tmp_path / "repo"
+    for rel in ("rules/common.smk", "rules/book.smk", "package.json", "package-lock.json",
+                "data/figure_ids.yaml"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(paths.ROOT / rel, root / rel)
+    shutil.copytree(paths.CONFIG, root / "config")
+    shutil.copytree(paths.ROOT / "src", root / "src",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    (root / "node_modules").symlink_to(paths.ROOT / "node_modules")
+    book = root / "book"
+    book.mkdir()
+    shutil.copy2(paths.BOOK / "_config.yml", book / "_config.yml")
+    (book / "intro.md").write_text("# Probe book\n\nMath $x^2$.\n")
+    (book / "_toc.yml").write_text("format: jb-book\nroot: intro\nchapters:\n"
+                                   "  - file: notebooks/probe\n")
+    (root / "notebooks").mkdir()
+    (book / "notebooks").symlink_to("../notebooks")
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_markdown_cell("# Probe"),
+                                         nbformat.v4.new_code_cell(cell_source)])
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nbformat.write(nb, root / "notebooks" / "probe.ipynb")
+    (root / "Snakefile").write_text(
+        'configfile: "config/config.yaml"\n\n\ninclude: "rules/common.smk"\n'
+        'include: "rules/book.smk"\n\n\nrule all:\n    input:\n        BOOK_INDEX,\n')
+    env = dict(os.environ)
+    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
+    env.pop("PEDALREPRO_RESULTS", None)
+    return subprocess.run([sys.executable, "-m", "snakemake", "-j1", "--configfile",
+                           "config/quick.yaml", "--config", "results_dir=results"],
+                          cwd=root, env=env, capture_output=True, text=True)
+
+
+@pytest.mark.skipif(not (paths.ROOT / "node_modules" / "mathjax").is_dir(),
+                    reason="MathJax not installed (npm ci)")
+def test_a_failing_notebook_cell_fails_the_book_rule(tmp_path):
+    good = _mini_workflow(tmp_path / "good", "x = 1 + 1\nx")
+    assert good.returncode == 0, good.stdout + good.stderr
+    assert (tmp_path / "good/repo/results/book/_build/html/index.html").is_file()
+    bad = _mini_workflow(tmp_path / "bad", "raise RuntimeError('deliberately broken cell')")
+    assert bad.returncode != 0
+    assert "Error in rule book" in bad.stdout + bad.stderr
+    # the failed build leaves no book behind, and its log names the cause
+    assert not (tmp_path / "bad/repo/results/book/_build/html/index.html").exists()
+    assert "deliberately broken cell" in (tmp_path / "bad/repo/results/logs/book.log").read_text()

@@ -1,0 +1,113 @@
+"""End to end: the quick profile builds the whole book from a fresh results folder.
+
+The run itself is the session fixture ``quick_workflow`` (tests/conftest.py), shared with the
+browser test (tests/test_book_browser.py), which then opens that very book.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+from pedalrepro import paths, report
+
+pytestmark = pytest.mark.workflow
+
+#: The only lint snakemake may report: this project ships one hashed environment.lock instead of
+#: per-rule conda environments or containers (README, "Layout").
+ALLOWED_LINT = "Specify a conda environment or container for each rule."
+
+
+def toc_files(toc: dict) -> list[str]:
+    """Every ``file:`` of a jupyter-book _toc.yml (root first), in order."""
+    files = [toc["root"]]
+
+    def walk(entries):
+        for entry in entries or []:
+            if "file" in entry:
+                files.append(entry["file"])
+            walk(entry.get("sections"))
+            walk(entry.get("chapters"))
+
+    for part in toc.get("parts", []):
+        walk(part.get("chapters"))
+    walk(toc.get("chapters"))
+    return files
+
+
+def html_of(doc: str, html_root: Path) -> Path:
+    return html_root / (str(Path(doc).with_suffix("")) + ".html")
+
+
+def test_quick_profile_builds_the_book(quick_workflow):
+    tail = "\n".join(quick_workflow.log.splitlines()[-60:])
+    assert quick_workflow.returncode == 0, f"snakemake failed:\n{tail}"
+    html = quick_workflow.results / "book" / "_build" / "html"
+    assert (html / "index.html").is_file()
+    # every page of the table of contents was rendered
+    toc = yaml.safe_load((paths.BOOK / "_toc.yml").read_text())
+    docs = toc_files(toc)
+    missing = [d for d in docs if not html_of(d, html).is_file()]
+    assert not missing, f"pages in _toc.yml not rendered: {missing}"
+    assert len(docs) >= 9  # intro, chapters 2-5, appendices, report, deviations at least
+    print(f"\nquick workflow: {quick_workflow.elapsed_s:.0f} s, {len(docs)} pages")
+
+
+def test_reproduction_report_is_complete(quick_workflow):
+    assert quick_workflow.returncode == 0
+    path = quick_workflow.results / "tables" / "reproduction_report.csv"
+    assert path.is_file()
+    raw = pd.read_csv(path)  # default NA parsing: an empty or "nan" cell becomes NaN
+    assert list(raw.columns) == list(report.COLUMNS)
+    assert len(raw) > 0, "the reproduction report has no rows"
+    required = ["item", "section", "published", "tolerance", "status"]
+    assert not raw[required].isna().any().any(), raw[raw[required].isna().any(axis=1)]
+    df = pd.read_csv(path, dtype=str, keep_default_na=False)
+    assert set(df["status"]) <= set(report.STATUSES), set(df["status"]) - set(report.STATUSES)
+    # a reproduced value may be absent only where the input is not available here
+    no_value = df["reproduced"].str.strip().str.lower().isin(["", "nan", "none"])
+    bad = df[no_value & (df["status"] != report.NOT_REPRODUCIBLE)]
+    assert bad.empty, f"rows without a reproduced value:\n{bad}"
+    counts = report.summary(df)
+    assert sum(counts.values()) == len(df)
+    print(f"\nreport: {len(df)} rows, {counts}")
+
+
+def test_book_is_offline(quick_workflow):
+    """No page references a script, style, font or image on another host; MathJax is local."""
+    assert quick_workflow.returncode == 0
+    html_root = quick_workflow.results / "book" / "_build" / "html"
+    pages = sorted(html_root.rglob("*.html"))
+    assert pages
+    external = re.compile(
+        r"""<(script|link|img|iframe|source)\b[^>]*\b(src|href)=["'](https?:)?//""", re.IGNORECASE)
+    offenders = {str(p.relative_to(html_root)): m.group(0)
+                 for p in pages for m in [external.search(p.read_text(errors="replace"))] if m}
+    assert not offenders, offenders
+    css_url = re.compile(r"url\(\s*['\"]?(https?:)?//", re.IGNORECASE)
+    css_bad = [str(p) for p in html_root.rglob("*.css") if css_url.search(p.read_text())]
+    assert not css_bad, css_bad
+    mathjax = html_root / "_static" / "mathjax" / "tex-mml-chtml.js"
+    assert mathjax.is_file() and mathjax.stat().st_size > 500_000
+    assert (mathjax.parent / "output" / "chtml" / "fonts" / "woff-v2").is_dir()
+    appendices = (html_root / "appendices.html").read_text()
+    assert '_static/mathjax/tex-mml-chtml.js' in appendices
+
+
+def test_snakemake_lint_clean_apart_from_environment_notice():
+    proc = subprocess.run(
+        [sys.executable, "-m", "snakemake", "--lint", "--configfile", "config/quick.yaml",
+         "--config", "results_dir=results/pytest_lint"],
+        cwd=paths.ROOT, capture_output=True, text=True,
+    )
+    out = proc.stdout + proc.stderr
+    lints = re.findall(r"^\s+\* (.+?):?\s*$", out, flags=re.MULTILINE)
+    other = [line for line in lints if line.rstrip(":") != ALLOWED_LINT.rstrip(":")]
+    assert not other, f"snakemake --lint:\n{out}"
+    assert "Traceback" not in out and "Error" not in out.split("Lints for")[0], out
