@@ -13,7 +13,6 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-import yaml
 
 from pedalrepro import paths, report
 
@@ -22,23 +21,6 @@ pytestmark = pytest.mark.workflow
 #: The only lint snakemake may report: this project ships one hashed environment.lock instead of
 #: per-rule conda environments or containers (README, "Layout").
 ALLOWED_LINT = "Specify a conda environment or container for each rule."
-
-
-def toc_files(toc: dict) -> list[str]:
-    """Every ``file:`` of a jupyter-book _toc.yml (root first), in order."""
-    files = [toc["root"]]
-
-    def walk(entries):
-        for entry in entries or []:
-            if "file" in entry:
-                files.append(entry["file"])
-            walk(entry.get("sections"))
-            walk(entry.get("chapters"))
-
-    for part in toc.get("parts", []):
-        walk(part.get("chapters"))
-    walk(toc.get("chapters"))
-    return files
 
 
 def html_of(doc: str, html_root: Path) -> Path:
@@ -51,8 +33,7 @@ def test_quick_profile_builds_the_book(quick_workflow):
     html = quick_workflow.results / "book" / "_build" / "html"
     assert (html / "index.html").is_file()
     # every page of the table of contents was rendered
-    toc = yaml.safe_load((paths.BOOK / "_toc.yml").read_text())
-    docs = toc_files(toc)
+    docs = report.book_pages()
     missing = [d for d in docs if not html_of(d, html).is_file()]
     assert not missing, f"pages in _toc.yml not rendered: {missing}"
     assert len(docs) >= 9  # intro, chapters 2-5, appendices, report, deviations at least

@@ -210,3 +210,26 @@ def rows_html(rows: pd.DataFrame, empty: str = "No report row yet.") -> str:
                       for s in body["status"]]
     table = body.to_html(index=False, border=0, classes="table", escape=False)
     return f'<div style="overflow-x:auto">{table}</div>'
+
+
+def book_pages(toc_path: str | Path | None = None) -> list[str]:
+    """Every document of the book's ``_toc.yml`` (the root first, then in reading order), as paths
+    relative to ``book/`` without suffix (``"notebooks/reproduction_report"``)."""
+    import yaml
+
+    from . import paths
+
+    toc = yaml.safe_load(Path(toc_path or paths.BOOK / "_toc.yml").read_text(encoding="utf-8"))
+    docs = [toc["root"]]
+
+    def walk(entries) -> None:
+        for entry in entries or []:
+            if "file" in entry:
+                docs.append(str(entry["file"]))
+            walk(entry.get("sections"))
+            walk(entry.get("chapters"))
+
+    for part in toc.get("parts", []):
+        walk(part.get("chapters"))
+    walk(toc.get("chapters"))
+    return docs

@@ -1,0 +1,162 @@
+"""The built book in a real browser: headless Chromium opens every page from a local HTTP server.
+
+Checks, on the book the quick workflow just built (fixture ``quick_workflow``): no broken image
+(every ``<img>`` decodes with ``naturalWidth > 0``), no console error or uncaught exception, no
+request to any host but the local server, MathJax typesets from the bundled copy, and every figure
+or table id the pipeline produced (``results/figures/<id>.png``, ``results/tables/<id>.csv`` of
+``data/figure_ids.yaml``) is shown as ``data-figure-id`` on some page (CONTRIBUTING.md, "Figures
+in the book"). A screenshot of the report page is saved as ``<results>/book/report.png``.
+
+Uses Debian's chromium (``apt-get install chromium chromium-driver``; ``scripts/setup.sh
+--browser``) through playwright; skipped with the reason when it is missing, unless
+``PEDALREPRO_REQUIRE_BROWSER=1`` (set by .ci/run), in which case it fails.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import struct
+import threading
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from urllib.parse import urlparse
+
+import pytest
+
+from pedalrepro import report
+
+pytestmark = pytest.mark.browser
+
+CHROMIUM = os.environ.get("PEDALREPRO_CHROMIUM", "/usr/bin/chromium")
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                 "--no-first-run", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync"]
+LOCAL_HOSTS = {"127.0.0.1", "localhost"}
+
+
+def _require_browser() -> None:
+    missing = None
+    if not (Path(CHROMIUM).is_file() and os.access(CHROMIUM, os.X_OK)):
+        missing = f"{CHROMIUM} not found (apt-get install chromium chromium-driver)"
+    else:
+        try:
+            import playwright.sync_api  # noqa: F401
+        except ImportError as exc:  # pragma: no cover - the lock installs it
+            missing = f"playwright not importable: {exc}"
+    if missing:
+        if os.environ.get("PEDALREPRO_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"browser required (PEDALREPRO_REQUIRE_BROWSER=1) but {missing}")
+        pytest.skip(missing)
+
+
+class _QuietHandler(SimpleHTTPRequestHandler):
+    def log_message(self, *args) -> None:  # keep pytest output clean
+        pass
+
+
+@pytest.fixture(scope="module")
+def served_book(quick_workflow):
+    _require_browser()
+    assert quick_workflow.returncode == 0, "the quick workflow failed (see test_workflow)"
+    html_root = quick_workflow.results / "book" / "_build" / "html"
+    handler = functools.partial(_QuietHandler, directory=str(html_root))
+    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)  # port 0: a free port
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}", html_root, quick_workflow.results
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+def _png_size(path: Path) -> tuple[int, int]:
+    data = path.read_bytes()[:24]
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", data[16:24])
+
+
+def _listen(page, rel: str, problems: list[str]) -> None:
+    """Record console errors, uncaught exceptions, failed requests and HTTP errors of a page."""
+    def console(m) -> None:
+        if m.type == "error":
+            problems.append(f"{rel}: console error: {m.text}")
+
+    def response(r) -> None:
+        if r.status >= 400:
+            problems.append(f"{rel}: HTTP {r.status} {r.url[:120]}")
+
+    page.on("console", console)
+    page.on("pageerror", lambda e: problems.append(f"{rel}: exception {e}"))
+    page.on("requestfailed", lambda r: problems.append(f"{rel}: request failed {r.url[:120]}"))
+    page.on("response", response)
+
+
+def test_every_page_in_a_browser(served_book):
+    from playwright.sync_api import sync_playwright
+
+    base, html_root, results = served_book
+    pages = [doc + ".html" for doc in report.book_pages()]
+    problems: list[str] = []
+    foreign: list[str] = []
+    shown: dict[str, str] = {}
+    mathjax_pages = 0
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        context = browser.new_context(viewport={"width": 1280, "height": 900})
+
+        def route(r):
+            url = urlparse(r.request.url)
+            if url.scheme in ("data", "blob", "about") or url.hostname in LOCAL_HOSTS:
+                r.continue_()
+            else:  # record and block: the book must read fully offline
+                foreign.append(r.request.url)
+                r.abort()
+
+        context.route("**/*", route)
+        for rel in pages:
+            page = context.new_page()
+            _listen(page, rel, problems)
+            response = page.goto(f"{base}/{rel}", wait_until="networkidle")
+            assert response is not None and response.ok, f"{rel}: {response and response.status}"
+            broken = page.evaluate("""async () => {
+                const imgs = Array.from(document.images);
+                imgs.forEach(i => { i.loading = 'eager'; });
+                await Promise.all(imgs.map(i => i.decode().catch(() => null)));
+                return imgs.filter(i => !(i.complete && i.naturalWidth > 0))
+                           .map(i => (i.getAttribute('alt') || '') + ' ' + i.src.slice(0, 80));
+            }""")
+            problems.extend(f"{rel}: broken image {b}" for b in broken)
+            for fid in page.eval_on_selector_all(
+                    "[data-figure-id]", "els => els.map(e => e.dataset.figureId)"):
+                shown.setdefault(fid, rel)
+            if page.evaluate("() => document.querySelector('.math') !== null"):
+                page.wait_for_function("() => window.MathJax && MathJax.startup"
+                                       " && MathJax.startup.promise", timeout=15_000)
+                page.evaluate("() => MathJax.startup.promise")
+                n_typeset = page.evaluate("() => document.querySelectorAll('mjx-container').length")
+                if n_typeset == 0:
+                    problems.append(f"{rel}: math not typeset by MathJax")
+                mathjax_pages += 1
+            if rel == "notebooks/reproduction_report.html":
+                shot = results / "book" / "report.png"
+                page.screenshot(path=str(shot), full_page=True)
+            page.close()
+        browser.close()
+
+    assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
+    assert not problems, "\n".join(problems)
+    assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
+    # every id the pipeline produced is shown; every id shown is a thesis id
+    coverage = report.figure_coverage()
+    produced = set(coverage.loc[coverage["present"], "id"])
+    produced |= {p.stem for p in (results / "figures").glob("fig_*.png")}
+    assert sorted(produced - set(shown)) == [], "produced but not shown in the book"
+    assert sorted(set(shown) - set(coverage["id"])) == [], "shown ids not in data/figure_ids.yaml"
+    width, height = _png_size(results / "book" / "report.png")
+    assert width >= 1000 and height >= 600
+    print(f"\nbrowser: {len(pages)} pages, {len(shown)} of {len(coverage)} figure ids shown, "
+          f"screenshot {width}x{height} px at {results / 'book' / 'report.png'}")
+
