@@ -1,0 +1,66 @@
+"""Section 2 figure functions: each draws the arrays it is given (pedalrepro.figures.section2)."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from pedalrepro import disturbance, figures, legs  # noqa: E402
+from pedalrepro.figures import section2  # noqa: E402
+
+IDS = ("fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5", "fig_2_6", "fig_2_7", "fig_d_1")
+
+
+@pytest.fixture(scope="module")
+def data():
+    d = disturbance.pedalling_disturbance("hybrid", samples_per_revolution=360)
+    return disturbance.to_arrays(d)
+
+
+@pytest.mark.parametrize("fid", IDS)
+def test_every_figure_function_returns_a_figure(fid, data, tmp_path):
+    with figures.style():
+        fig = getattr(section2, fid)(data)
+    assert isinstance(fig, Figure)
+    out = figures.save(fig, tmp_path / f"{fid}.png")
+    assert out.stat().st_size > 10_000
+
+
+def test_fig_2_3_draws_the_com_signals(data):
+    with figures.style():
+        fig = section2.fig_2_3(data)
+    ax = fig.axes[4]  # acceleration, forward
+    four_bar, simple = ax.get_lines()[:2]
+    np.testing.assert_array_equal(four_bar.get_ydata(), data["com_acc_m_s2"][:, 0])
+    np.testing.assert_array_equal(simple.get_ydata(), data["com_simple_acc_m_s2"][:, 0])
+    np.testing.assert_allclose(four_bar.get_xdata(), np.rad2deg(data["crank_angle_rad"]))
+    assert fig.axes[1].yaxis_inverted() and not fig.axes[0].yaxis_inverted()  # z down
+
+
+def test_fig_2_7_draws_generalised_torques(data):
+    with figures.style():
+        fig = section2.fig_2_7(data)
+    roll, simple = fig.axes[0].get_lines()[:2]
+    np.testing.assert_array_equal(roll.get_ydata(), data["generalised_nm"][:, 0])
+    np.testing.assert_array_equal(simple.get_ydata(), data["generalised_simple_nm"][:, 0])
+
+
+def test_spectrum_arrays_match_table_d_1(data):
+    x, z = legs.com_fourier(legs.leg_geometry("hybrid", "O"), (1, 2, 3))
+    amp = data["spectrum_com_amplitude_m"]
+    np.testing.assert_allclose(amp[1:4, 0], np.abs(x), rtol=1e-10)
+    np.testing.assert_allclose(amp[1:4, 1], np.abs(z), rtol=1e-10)
+
+
+def test_table_d_1_wide_layout():
+    rows = [{"case": c, "axis": a, "n": n, "amplitude_m": 1.0 + n, "phase_rad": -n}
+            for c in ("hybrid_O", "city_W") for a in ("X", "Z") for n in (1, 2)]
+    wide = section2.table_d_1_wide(pd.DataFrame(rows))
+    assert list(wide.columns) == ["quantity", "n", "hybrid_O", "city_W"]
+    assert len(wide) == 8 and wide["hybrid_O"].iloc[0] == 2.0

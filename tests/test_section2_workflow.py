@@ -1,0 +1,69 @@
+"""The Section 2 rules end to end (quick profile, a temporary results folder)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from pedalrepro import paths, report
+
+pytestmark = pytest.mark.workflow
+
+FIGURES = ("fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5", "fig_2_6", "fig_2_7", "fig_d_1")
+
+
+@pytest.fixture(scope="module")
+def section2_run(tmp_path_factory):
+    results = tmp_path_factory.mktemp("s2")
+    targets = [f"{results}/tables/table_d_1.csv", f"{results}/tables/section2_numbers.csv",
+               f"{results}/tables/report/section2.csv",
+               f"{results}/intermediate/section2/disturbance_city.npz"]
+    targets += [f"{results}/figures/{f}.png" for f in FIGURES]
+    env = dict(os.environ)
+    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
+    env.pop("PEDALREPRO_RESULTS", None)
+    cmd = [sys.executable, "-m", "snakemake", "-j1", "--nolock", *targets,
+           "--configfile", "config/quick.yaml", "--config", f"results_dir={results}"]
+    proc = subprocess.run(cmd, cwd=paths.ROOT, env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, (proc.stdout + proc.stderr)[-4000:]
+    return results
+
+
+def test_table_d_1_csv(section2_run, published):
+    df = pd.read_csv(section2_run / "tables" / "table_d_1.csv")
+    assert list(df.columns) == ["case", "axis", "n", "amplitude_m", "phase_rad"]
+    assert len(df) == 4 * 2 * 5
+    pub = published["table_D1_leg_com_fourier"]
+    for (case, axis), grp in df.groupby(["case", "axis"]):
+        grp = grp.sort_values("n")
+        np.testing.assert_allclose(grp["amplitude_m"], pub[case][f"amplitude_{axis}"], rtol=1e-6)
+        np.testing.assert_allclose(grp["phase_rad"], pub[case][f"phase_{axis}"], atol=1e-6)
+
+
+def test_section2_report_rows(section2_run):
+    df = pd.read_csv(section2_run / "tables" / "report" / "section2.csv", dtype=str,
+                     keep_default_na=False)
+    assert list(df.columns) == list(report.COLUMNS)
+    d1 = df[df["section"] == "Table D.1"]
+    assert len(d1) == 80 and set(d1["status"]) == {report.REPRODUCED}
+    claims = df[df["section"] != "Table D.1"]
+    # every Section 2 scalar claim of thesis_values.yaml has a row
+    for word in ("forward COM", "vertical COM", "roll torque", "steer torque",
+                 "forward d'Alembert", "vertical d'Alembert", "Winter", "even multiples"):
+        assert claims["item"].str.contains(word, regex=False).any(), word
+    # differences carry an explanation
+    assert (claims.loc[claims["status"] == report.DIFFERS, "note"].str.len() > 20).all()
+
+
+def test_section2_outputs_exist(section2_run):
+    for f in FIGURES:
+        assert (section2_run / "figures" / f"{f}.png").stat().st_size > 10_000
+    with np.load(section2_run / "intermediate" / "section2" / "disturbance_city.npz") as npz:
+        assert npz["com_m"].shape == (720, 2)  # quick profile: 720 samples per revolution
+        assert np.isclose(float(npz["cadence_rad_s"]), 2 * np.pi)
