@@ -31,6 +31,7 @@ without a repeated end point.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -362,9 +363,19 @@ def com_fourier(geometry: LegGeometry, harmonics: tuple[int, ...] | np.ndarray =
     taken over one revolution at 1 rad/s. Returns two complex arrays
     ``|X(n)| exp(i phi_X(n))`` and ``|Z(n)| exp(i phi_Z(n))`` (m).
     """
+    n = tuple(int(k) for k in np.atleast_1d(harmonics))
+    coef = _com_fourier_cached(geometry, n, int(samples_per_revolution))
+    return coef[:, 0].copy(), coef[:, 1].copy()
+
+
+@lru_cache(maxsize=64)
+def _com_fourier_cached(geometry: LegGeometry, harmonics: tuple[int, ...],
+                        samples_per_revolution: int) -> np.ndarray:
+    """Cached core of :func:`com_fourier` (the geometry is a frozen, hashable dataclass)."""
     motion = leg_motion(geometry, 1.0, samples_per_revolution=samples_per_revolution)
     coef = fourier_coefficients(motion.com, harmonics)
-    return coef[:, 0], coef[:, 1]
+    coef.flags.writeable = False
+    return coef
 
 
 def harmonic_signal(mean: float, coefficients: np.ndarray, harmonics: np.ndarray | tuple[int, ...],
