@@ -151,27 +151,70 @@ class Kinematics:
     notes: list[str] = field(default_factory=list)
 
 
-def _body_points(run: Run, numbers: tuple[int, ...], notes: list[str]) -> np.ndarray:
-    """Markers of a body: the raw points where seen; in frames where fewer than 3 raw markers
-    are seen, the gap-repaired ``x, y, z`` of the file fill the holes."""
+def _body_points(run: Run, numbers: tuple[int, ...], notes: list[str]
+                 ) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
+    """Markers of a body that are ever seen: (raw only, mixed, their numbers).
+
+    ``mixed`` = the raw points, except in frames where fewer than 3 raw markers are seen, where
+    the gap-repaired ``x, y, z`` of the file fill the holes. A marker never seen is dropped
+    (documented repair, noted)."""
     idx = [marker_index(m) for m in numbers]
     raw = run.raw_m[:, idx, :]
     rep = run.markers_m[:, idx, :]
     raw_ok = np.all(np.isfinite(raw), axis=-1)
-    never = [m for m, seen in zip(numbers, raw_ok.any(axis=0) |
-                                  np.all(np.isfinite(rep), axis=-1).any(axis=0), strict=True)
-             if not seen]
+    seen = raw_ok.any(axis=0) | np.all(np.isfinite(rep), axis=-1).any(axis=0)
+    never = [m for m, s in zip(numbers, seen, strict=True) if not s]
     if never:
         notes.append(f"markers {never} never visible: excluded from the rigid-body fit")
-    if len(numbers) - len(never) < MIN_MARKERS:
+    if seen.sum() < MIN_MARKERS:
         raise ValueError(f"run {run.run_id}: markers {never} missing; the body "
                          f"{list(numbers)} needs at least {MIN_MARKERS} markers")
+    raw, rep, raw_ok = raw[:, seen], rep[:, seen], raw_ok[:, seen]
     few = raw_ok.sum(axis=1) < MIN_MARKERS
     combined = np.where(raw_ok[..., None], raw, rep)
     if few.any():
         notes.append(f"{int(few.sum())} frames with < {MIN_MARKERS} raw markers of "
                      f"{list(numbers)}: gap-repaired x, y, z used")
-    return np.where(few[:, None, None], combined, raw)
+    kept = tuple(m for m, s in zip(numbers, seen, strict=True) if s)
+    return raw, np.where(few[:, None, None], combined, raw), kept
+
+
+def _rear_normal(ref: dict[int, np.ndarray], notes: list[str]) -> np.ndarray:
+    """``b2`` of the reference shape: normal of the plane through 26, (22+28)/2, (25+31)/2
+    (``states.py``); if one of them is missing, the least-squares plane through the available
+    ones of 26 and the left/right midpoints (22/28, 24/30, 25/31), pointing right."""
+    def mid(a, b):
+        return 0.5 * (ref[a] + ref[b]) if a in ref and b in ref else None
+
+    head, wheel = mid(22, 28), mid(25, 31)
+    if 26 in ref and head is not None and wheel is not None:
+        n = np.cross(head - wheel, ref[26] - wheel)
+    else:
+        pts = [p for p in (ref.get(26), head, mid(24, 30), wheel) if p is not None]
+        if len(pts) < 3:
+            raise ValueError("the rear frame's symmetry plane needs 3 of: 26, 22/28, 24/30, "
+                             "25/31")
+        pts = np.array(pts)
+        n = np.linalg.svd(pts - pts.mean(axis=0))[2][-1]
+        notes.append("rear-frame plane from the left/right marker midpoints (a plane marker "
+                     "is missing)")
+    side = next((ref[a] - ref[b] for a, b in ((25, 31), (24, 30), (22, 28))
+                 if a in ref and b in ref), np.array([0.0, 1.0, 0.0]))
+    n = _unit(n)
+    return -n if n @ side < 0 else n
+
+
+def _axle(ref: dict[int, np.ndarray], notes: list[str]) -> np.ndarray:
+    """``e2`` of the reference fork shape: unit(r21 - r27); without a front-wheel marker, the
+    handlebar ends unit(r23 - r29) (assumed parallel to the axle: a constant steer offset,
+    which does not change the cadence amplitudes)."""
+    if 21 in ref and 27 in ref:
+        return _unit(ref[21] - ref[27])
+    if 23 in ref and 29 in ref:
+        notes.append("front axle direction from the handlebar ends (a wheel marker is missing)")
+        return _unit(ref[23] - ref[29])
+    raise ValueError("the fork needs both front-wheel (21, 27) or both handlebar (23, 29) "
+                     "markers")
 
 
 def _fill(t: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -221,30 +264,20 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
     notes: list[str] = []
     lam = steer_axis_tilt_rad(run.bicycle) if lam_rad is None else float(lam_rad)
     t = run.t_s
-    rear = _body_points(run, REAR_FRAME_MARKERS, notes)
-    fork = _body_points(run, FORK_MARKERS, notes)
+    _, rear, rear_ids = _body_points(run, REAR_FRAME_MARKERS, notes)
+    fork_raw, fork, fork_ids = _body_points(run, FORK_MARKERS, notes)
     if reference is not None:
-        rear_ref = reference_shape(reference.markers_m[:, [marker_index(m) for m in
-                                                           REAR_FRAME_MARKERS], :])
-        fork_ref = reference_shape(reference.markers_m[:, [marker_index(m) for m in
-                                                           FORK_MARKERS], :])
+        rear_ref = reference_shape(reference.markers_m[:, [marker_index(m) for m in rear_ids]])
+        fork_ref = reference_shape(reference.markers_m[:, [marker_index(m) for m in fork_ids]])
     else:
         rear_ref, fork_ref = reference_shape(rear), reference_shape(fork)
 
     # triads on the reference shapes
-    ri = {m: i for i, m in enumerate(REAR_FRAME_MARKERS)}
-    seat = rear_ref[ri[26]]
-    head = 0.5 * (rear_ref[ri[22]] + rear_ref[ri[28]])
-    wheel = 0.5 * (rear_ref[ri[25]] + rear_ref[ri[31]])
-    b2_ref = _unit(np.cross(head - wheel, seat - wheel))
-    side = rear_ref[ri[25]] - rear_ref[ri[31]]  # right minus left rear-wheel marker
-    if b2_ref @ side < 0:
-        b2_ref = -b2_ref
-    fi = {m: i for i, m in enumerate(FORK_MARKERS)}
-    e2_ref = _unit(fork_ref[fi[21]] - fork_ref[fi[27]])
+    b2_ref = _rear_normal(dict(zip(rear_ids, rear_ref, strict=True)), notes)
+    e2_ref = _axle(dict(zip(fork_ids, fork_ref, strict=True)), notes)
 
     rot_b, _, rms_b = kabsch(rear_ref, rear)
-    rot_f, _, rms_f = kabsch(fork_ref, fork)
+    rot_f, _, rms_f = kabsch(fork_ref, fork_raw)
     b2 = np.einsum("nij,j->ni", rot_b, b2_ref)
     b1 = _unit(np.cross(b2, N3))
     b3 = np.cross(b1, b2)
@@ -253,7 +286,14 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
     d1 = np.cos(lam) * b1 - np.sin(lam) * b3
     e2 = np.einsum("nij,j->ni", rot_f, e2_ref)
     steer = np.arctan2(-np.sum(e2 * d1, axis=1), np.sum(e2 * b2, axis=1))
-    steer = _steer_from_pairs(fork, steer, d1, b2, notes)
+    # fewer than 3 raw fork markers: a raw pair about the steer axis, else the repaired markers
+    steer = _steer_from_pairs(fork_raw, steer, d1, b2, notes)
+    still = ~np.isfinite(steer)
+    if still.any():
+        rot_m, _, _ = kabsch(fork_ref, fork[still])
+        e2m = np.einsum("nij,j->ni", rot_m, e2_ref)
+        steer[still] = np.arctan2(-np.sum(e2m * d1[still], axis=1),
+                                  np.sum(e2m * b2[still], axis=1))
 
     # crank angle from the feet (raw where seen, else gap-repaired)
     feet = []
@@ -267,10 +307,12 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
         raise ValueError(f"run {run.run_id}: feet markers 1 and 5 missing: no crank angle")
     crank_u = _unwrap_across_gaps(t, crank)
 
-    bad = ~(np.isfinite(roll) & np.isfinite(steer))
+    bad_rear, bad_steer = ~np.isfinite(roll), ~np.isfinite(steer)
+    bad = bad_rear | bad_steer
     if bad.any():
-        notes.append(f"{int(bad.sum())} samples without a rigid-body fit: angles interpolated")
-    angles = [_fill(t, np.where(bad, np.nan, a)) for a in (yaw, roll, steer)]
+        notes.append(f"{int(bad_rear.sum())} samples without a rear-frame fit, "
+                     f"{int(bad_steer.sum())} without a steer angle: interpolated")
+    angles = [_fill(t, np.where(bad_rear, np.nan, yaw)), _fill(t, roll), _fill(t, steer)]
     if lowpass_hz:
         fs = run.sample_rate_hz
         if lowpass_hz >= fs / 2:
