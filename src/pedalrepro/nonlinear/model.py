@@ -1,0 +1,219 @@
+"""Symbolic non-linear Carvallo-Whipple bicycle-rider model (thesis Sec 3.1.1.3, Fig 3.4).
+
+The thesis built its non-linear models in SPACAR; this project derives them with SymBRiM
+(``symbrim``, Moore's parametrisation of the Whipple bicycle) and ``sympy.physics.mechanics``
+(Kane's method). The rigid part of the rider is lumped into the rear frame (benchmark body B);
+the legs and cranks are optional separate bodies whose motion relative to the rear frame is
+*prescribed* (specified functions of time, the isokinetic crank of Sec 3.1.1.3), so the model
+keeps the Whipple bicycle's three velocity degrees of freedom (roll rate, rear wheel rate,
+steer rate).
+
+Formulation
+-----------
+Kane's equations are formed for all eight generalised speeds ``u`` of SymBRiM's
+``WhippleBicycleMoore`` *without* eliminating the dependent ones symbolically:
+``M(q, s) u' = F(q, u, s)`` plus the five velocity constraints ``A(q) u = 0`` (four
+no-slip rolling constraints and the time derivative of the holonomic ground-contact constraint
+of the front wheel) and their time derivative ``A u' + b(q, u) = 0``. The constraint forces are
+resolved numerically (:mod:`pedalrepro.nonlinear.numeric`), which keeps the symbolic
+expressions small. Coordinates that do not enter the dynamics on flat ground (contact-point
+position, yaw, wheel rotation angles) are set to zero in the generated code.
+
+Coordinates (Moore 2012; SymBRiM ``bicycle.q``): q1, q2 rear contact x, y; q3 yaw; q4 roll;
+q5 pitch; q6 rear wheel angle; q7 steer; q8 front wheel angle. Roll q4 and steer q7 are the
+benchmark roll and steer angles of Meijaard et al. (2007).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sm
+from sympy.physics.mechanics import (
+    KanesMethod,
+    Point,
+    ReferenceFrame,
+    RigidBody,
+    dynamicsymbols,
+    inertia,
+)
+
+#: Number of prescribed leg/crank bodies: left and right crank, shank, thigh.
+LEG_BODIES: tuple[str, ...] = ("crank_r", "crank_l", "shank_r", "shank_l", "thigh_r", "thigh_l")
+#: Indices (0-based, Moore order) of coordinates that do not enter the flat-ground dynamics.
+IGNORABLE_Q: tuple[int, ...] = (0, 1, 2, 5, 7)
+ROLL, PITCH, STEER = 3, 4, 6
+REAR_WHEEL = 5
+#: Independent speeds: roll rate, rear wheel rate, steer rate.
+U_IND: tuple[int, ...] = (3, 5, 6)
+U_DEP: tuple[int, ...] = (0, 1, 2, 4, 7)
+
+
+@dataclass(frozen=True)
+class ModelOptions:
+    """Options that change the symbolic model (and so the cache key).
+
+    Parameters
+    ----------
+    legs
+        Add the six prescribed leg and crank bodies (method NP). Without them the legs are part
+        of the rigid rear-frame body (methods NT, the linearisation checks).
+    """
+
+    legs: bool = False
+
+    def key(self) -> str:
+        return f"whipple{'_legs' if self.legs else ''}"
+
+
+@dataclass
+class SymbolicModel:
+    """The symbolic pieces the numeric code is generated from.
+
+    Attributes
+    ----------
+    q, u
+        Coordinates and speeds (8 each, Moore order).
+    params
+        Ordered parameter symbols (see :func:`parameter_names`).
+    spec
+        Ordered specified symbols of the prescribed leg motion (x, z, angle of each body in the
+        rear frame and their first and second time derivatives); empty without legs.
+    M, F
+        Mass matrix (8 x 8) and forcing (8) of the unconstrained Kane equations.
+    A, b
+        Velocity constraint matrix (5 x 8) and acceleration constraint term (5).
+    energy
+        Total mechanical energy (kinetic + gravitational potential), J.
+    """
+
+    q: list
+    u: list
+    params: list
+    spec: list
+    M: sm.Matrix
+    F: sm.Matrix
+    A: sm.Matrix
+    b: sm.Matrix
+    energy: sm.Expr
+    param_names: list[str]
+
+
+def derive(options: ModelOptions) -> SymbolicModel:
+    """Derive the model symbolically with SymBRiM and Kane's method (a few seconds).
+
+    Parameters
+    ----------
+    options
+        Which bodies to include.
+
+    Returns
+    -------
+    SymbolicModel
+    """
+    import symbrim as sb
+
+    t = dynamicsymbols._t
+    bicycle = sb.WhippleBicycle("bicycle")
+    bicycle.ground = sb.FlatGround("ground")
+    bicycle.rear_frame = sb.RigidRearFrame("rear_frame")
+    bicycle.front_frame = sb.RigidFrontFrame("front_frame")
+    bicycle.rear_wheel = sb.KnifeEdgeWheel("rear_wheel")
+    bicycle.front_wheel = sb.KnifeEdgeWheel("front_wheel")
+    bicycle.rear_tire = sb.NonHolonomicTire("rear_tire")
+    bicycle.front_tire = sb.NonHolonomicTire("front_tire")
+    bicycle.define_all()
+    system = bicycle.to_system()
+    g = sm.Symbol("g")
+    normal = bicycle.ground.get_normal(bicycle.ground.origin)
+    N = bicycle.ground.frame
+    q = list(bicycle.q)
+    u = list(bicycle.u)
+
+    bodies = list(system.bodies)
+    spec: list = []
+    leg_params: list = []
+    if options.legs:
+        rear = bicycle.rear_frame.body
+        hub = bicycle.rear_frame.wheel_hub.point
+        pos_syms, ang_syms = [], []
+        for name in LEG_BODIES:
+            x, z, th = dynamicsymbols(f"{name}_x {name}_z {name}_th")
+            y, m, i_perp = sm.symbols(f"{name}_y {name}_m {name}_I")
+            frame = ReferenceFrame(f"{name}_frame")
+            frame.orient_axis(rear.frame, rear.frame.y, th)
+            point = Point(f"{name}_com")
+            point.set_pos(hub, x * rear.frame.x + y * rear.frame.y + z * rear.frame.z)
+            point.set_vel(N, point.pos_from(bicycle.ground.origin).dt(N))
+            # Slender rod along the body's own x axis (Sec 2.1.1 segments).
+            body = RigidBody(name, point, frame, m, (inertia(frame, 0, i_perp, i_perp), point))
+            bodies.append(body)
+            pos_syms += [x, z, th]
+            leg_params += [y, m, i_perp]
+            ang_syms.append(th)
+        spec = pos_syms
+    # Gravity as forces on every mass centre (SymBRiM's apply_uniform_gravity does the same).
+    loads = [(b.masscenter, -g * b.mass * normal) for b in bodies]
+    # SymBRiM's Moore model defines every speed as u_i = q_i' (checked here).
+    kdes = [ui - qi.diff(t) for qi, ui in zip(q, u, strict=True)]
+    qd_u = dict(zip([qi.diff(t) for qi in q], u, strict=True))
+    if set(sm.Matrix(system.kdes).xreplace(qd_u)) - {0}:
+        raise RuntimeError("unexpected kinematic differential equations in SymBRiM's model")
+    km = KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kdes, bodies=bodies, forcelist=loads)
+    km.kanes_equations(bodies, loads)
+    qd_to_u = km.kindiffdict()
+    M = km.mass_matrix
+    F = km.forcing
+
+    # Constraints: no-slip (4 nonholonomic) and the derivative of the holonomic one.
+    hol = sm.Matrix(system.holonomic_constraints)
+    nh = sm.Matrix(system.nonholonomic_constraints)
+    vel = sm.Matrix.vstack(nh, hol.diff(t)).xreplace(qd_to_u)
+    A = vel.jacobian(u)
+    rest = (vel - A * sm.Matrix(u)).xreplace({ui: 0 for ui in u}).expand()
+    if any(e != 0 for e in rest):
+        raise RuntimeError("velocity constraints are not homogeneous in the speeds")
+    # d/dt (A u) = A u' + b, b = (dA/dt) u
+    b = (A * sm.Matrix(u)).diff(t).xreplace(qd_to_u)
+    b = b.xreplace({ui.diff(t): 0 for ui in u})
+
+    # Energy: kinetic + gravitational potential (height along the ground normal).
+    ke = sum(body.kinetic_energy(N) for body in bodies)
+    pe = sum(body.mass * g * body.masscenter.pos_from(bicycle.ground.origin).dot(normal)
+             for body in bodies)
+    energy = (ke + pe).xreplace(qd_to_u)
+
+    # Replace specified functions and their derivatives by plain symbols for code generation.
+    spec_syms: list = []
+    repl: dict = {}
+    for level in (2, 1, 0):
+        for s in spec:
+            sym = sm.Symbol(f"{s.func.__name__}_d{level}")
+            repl[s.diff(t, level) if level else s] = sym
+    for level in (0, 1, 2):
+        spec_syms += [repl[s.diff(t, level) if level else s] for s in spec]
+    ignorable = {q[i]: 0 for i in IGNORABLE_Q}
+
+    def clean(expr):
+        # derivatives first (xreplace matches whole subtrees), then the functions themselves
+        expr = expr.xreplace({k: v for k, v in repl.items() if k.is_Derivative})
+        expr = expr.xreplace(repl)
+        return expr.xreplace(ignorable)
+
+    M, F, A, b = (clean(x) for x in (M, F, A, b))
+    energy = clean(energy)
+    # qs and us as plain symbols.
+    q_s = sm.symbols("q1:9")
+    u_s = sm.symbols("u1:9")
+    to_plain = dict(zip(q, q_s, strict=True)) | dict(zip(u, u_s, strict=True))
+    M, F, A, b = (x.xreplace(to_plain) for x in (M, F, A, b))
+    energy = energy.xreplace(to_plain)
+
+    params = sorted((M.free_symbols | F.free_symbols | A.free_symbols | b.free_symbols
+                     | energy.free_symbols) - set(q_s) - set(u_s) - set(spec_syms) - {t},
+                    key=lambda s: s.name)
+    leftovers = [s for s in (M.free_symbols | F.free_symbols) if isinstance(s, sm.Function)]
+    if leftovers:
+        raise RuntimeError(f"unresolved functions of time in the model: {leftovers}")
+    return SymbolicModel(list(q_s), list(u_s), params, spec_syms, M, F, A, b, energy,
+                         [s.name for s in params])

@@ -1,0 +1,74 @@
+"""Checks of the non-linear Whipple model: linearisation against Meijaard et al. (2007), energy."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import yaml
+
+from pedalrepro import params, paths
+from pedalrepro.nonlinear import codegen, model
+from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.simulate import simulate
+
+
+@pytest.fixture(scope="module")
+def benchmark_model() -> NonlinearModel:
+    return NonlinearModel(params.benchmark_parameters("benchmark"))
+
+
+def test_linearisation_equals_meijaard_2007(benchmark_model):
+    """M, C1, K0, K2 of the linearised non-linear model equal the published benchmark matrices.
+
+    The published matrices carry 14 significant digits; the complex-step Jacobian is exact to
+    rounding, so both an absolute (the zero entries) and a relative 1e-9 tolerance hold.
+    """
+    published = yaml.safe_load((paths.PUBLISHED / "meijaard2007.yaml").read_text())
+    ours = benchmark_matrices(benchmark_model)
+    for name in ("M", "C1", "K0", "K2"):
+        np.testing.assert_allclose(ours[name], np.array(published[name]), rtol=1e-9, atol=1e-9,
+                                   err_msg=name)
+
+
+def test_linearisation_independent_of_speed_pair(benchmark_model):
+    """C1, K0, K2 from speeds (0, 1) and (2, 7) agree: K(v) is quadratic and C(v) linear in v."""
+    a = benchmark_matrices(benchmark_model, (0.0, 1.0))
+    b = benchmark_matrices(benchmark_model, (2.0, 7.0))
+    for name in ("M", "C1", "K0", "K2"):
+        np.testing.assert_allclose(a[name], b[name], rtol=1e-9, atol=1e-9, err_msg=name)
+
+
+def test_energy_is_conserved(benchmark_model):
+    """No dissipation, rolling without slip: total energy constant over 15 s (rtol 1e-10)."""
+    nl = benchmark_model
+    x0 = nl.upright_state(5.0, roll_rate_rad_s=0.5)
+    sim = simulate(nl, 5.0, 15.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853",
+                   fall_roll_rad=1.0)
+    assert not sim.fell
+    e = np.array([nl.energy_J(t, sim.states[:, k]) for k, t in enumerate(sim.t_s)])
+    drift = np.max(np.abs(e - e[0])) / abs(e[0])
+    assert drift < 1e-7
+    # and the motion is not trivial: the roll rate changed and the kinetic energy moved around
+    assert np.ptp(sim.states[3]) > 0.1
+
+
+def test_stable_speed_decays_unstable_speed_grows(benchmark_model):
+    """At 5 m/s (inside 4.29-6.02 m/s) a roll-rate perturbation decays; at 2 m/s it falls."""
+    nl = benchmark_model
+    stable = simulate(nl, 5.0, 20.0, 10.0, x0=nl.upright_state(5.0, 0.2))
+    assert not stable.fell
+    assert np.max(np.abs(stable.roll_rad[-20:])) < 0.05 * np.max(np.abs(stable.roll_rad))
+    unstable = simulate(nl, 2.0, 20.0, 10.0, x0=nl.upright_state(2.0, 0.2), fall_roll_rad=1.0)
+    assert unstable.fell and unstable.t_end_s < 20.0
+
+
+def test_derivation_is_cached(benchmark_model, monkeypatch):
+    """A second load reads the generated module: derive() is never called again."""
+    path = codegen.generated_source(model.ModelOptions())
+    assert path.exists()
+
+    def boom(*args, **kwargs):
+        raise AssertionError("re-derived although cached")
+
+    monkeypatch.setattr(model, "derive", boom)
+    assert codegen.generated_source(model.ModelOptions()) == path
