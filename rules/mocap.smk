@@ -1,1 +1,97 @@
-# Rules of the mocap part (see rules/common.smk for helpers).
+# Rules of the mocap part (see rules/common.smk for helpers): the treadmill data (Sec 4.1),
+# Tables 4.1 and 4.2 and Figures 4.2-4.11. data_source (config): auto | figshare | synthetic
+# (DESIGN.md "Treadmill data: offline and honest"); outputs built from the synthetic stand-in say
+# so (data_source column, SYNTHETIC stamp, report status "not reproducible here").
+
+MOCAP_CODE = pkg(
+    "mocap/__init__", "mocap/fetch", "mocap/reader", "mocap/kinematics", "mocap/cadence",
+    "mocap/runs", "spectral",
+)
+MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)]
+
+
+rule mocap_runs:
+    input:
+        code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
+        runs_yaml="data/parameters/validation_runs.yaml",
+        registry="data/registry.txt",
+    output:
+        runs=directory(interm("mocap/runs")),
+        source=interm("mocap/source.json"),
+    params:
+        data_source=config["data_source"],
+        mocap=config["mocap"],
+        seed=config["seed"],
+    log:
+        logfile("mocap_runs"),
+    benchmark:
+        bench("mocap_runs")
+    message:
+        "Treadmill run files (data_source: {params.data_source}; synthetic stand-in if offline)"
+    script:
+        "scripts/mocap_runs.py"
+
+
+rule mocap_extract:
+    input:
+        runs=interm("mocap/runs"),
+        source=interm("mocap/source.json"),
+        code=MOCAP_CODE,
+    output:
+        table=interm("mocap/measured.csv"),
+        series=interm("mocap/series.npz"),
+    params:
+        lowpass_hz=config["mocap"]["angle_lowpass_hz"],
+    log:
+        logfile("mocap_extract"),
+    benchmark:
+        bench("mocap_extract")
+    message:
+        "Roll, steer, yaw and cadence of every treadmill run (rigid-body fits, Hann DFT)"
+    script:
+        "scripts/mocap_extract.py"
+
+
+rule validation_tables:
+    input:
+        measured=interm("mocap/measured.csv"),
+        runs=interm("mocap/runs"),
+        source=interm("mocap/source.json"),
+        model=table("table_4_1_model"),
+        runs_yaml="data/parameters/validation_runs.yaml",
+        code=MOCAP_CODE + pkg("validation", "report", "disturbance", "response", "linear"),
+    output:
+        t41=table("table_4_1"),
+        t42=table("table_4_2"),
+        per_run=table("validation_runs"),
+        report=f"{R}/tables/report/mocap.csv",
+    log:
+        logfile("validation_tables"),
+    message:
+        "Tables 4.1 and 4.2: measured vs open-loop model cadence amplitudes"
+    script:
+        "scripts/mocap_tables.py"
+
+
+rule validation_figures:
+    input:
+        per_run=table("validation_runs"),
+        series=interm("mocap/series.npz"),
+        source=interm("mocap/source.json"),
+        code=pkg("validation", "spectral", "figures/__init__", "figures/validation"),
+    output:
+        MOCAP_FIGURES,
+    log:
+        logfile("validation_figures"),
+    message:
+        "Figures 4.2-4.11 (measured vs open-loop model)"
+    script:
+        "scripts/mocap_figures.py"
+
+
+REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
+BOOK_INPUTS.extend(
+    [table("table_4_1"), table("table_4_2"), table("validation_runs"),
+     interm("mocap/source.json"), interm("mocap/series.npz")]
+    + MOCAP_FIGURES
+)

@@ -1,0 +1,178 @@
+"""Figures 4.2-4.11: open-loop model vs treadmill measurement (Sec 4.2).
+
+Each function takes arrays/DataFrames and returns a matplotlib Figure; the Snakemake rule saves
+it and the notebook shows it. ``synthetic_reason`` (non-empty when the data are the synthetic
+stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_stamp`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from .. import spectral
+from . import synthetic_stamp
+
+SYSTEM_FIGURES = {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
+                  "HR": ("fig_4_4", "fig_4_8"), "CR": ("fig_4_5", "fig_4_9")}
+
+
+@dataclass
+class ExampleRun:
+    """One example run: measured and model (steady-state, crank-locked) angles."""
+
+    run_id: int
+    speed_kmh: float
+    cadence_rpm: float
+    t_s: np.ndarray
+    roll_rad: np.ndarray
+    steer_rad: np.ndarray
+    model_roll_rad: np.ndarray
+    model_steer_rad: np.ndarray
+
+
+@dataclass
+class PSMap:
+    """Particular-solution amplitude map of a system (Sec 3.1.2.2.1)."""
+
+    speed_m_s: np.ndarray
+    omega_rad_s: np.ndarray
+    roll_amp_rad: np.ndarray  # (n_v, n_w)
+    steer_amp_rad: np.ndarray
+
+
+def _contour(ax, ps: PSMap, which: str, runs: Sequence[tuple[float, float]] | None = None,
+             levels: int = 12):
+    amp = ps.roll_amp_rad if which == "roll" else ps.steer_amp_rad
+    amp = np.clip(amp, 1e-4, None)
+    cs = ax.contourf(ps.speed_m_s, ps.omega_rad_s, np.log10(amp).T, levels=levels,
+                     cmap="viridis")
+    ax.set_xlabel("forward speed v (m/s)")
+    ax.set_ylabel("cadence $\\omega$ (rad/s)")
+    if runs:
+        for i, (v, w) in enumerate(runs, start=1):
+            ax.plot(v, w, "o", mfc="white", mec="k", ms=9)
+            ax.text(v, w, str(i), ha="center", va="center", fontsize=7)
+    return cs
+
+
+def _stamp(fig: Figure, reason: str) -> None:
+    if reason:
+        synthetic_stamp(fig, reason)
+
+
+def time_series(system: str, examples: Sequence[ExampleRun], ps: PSMap,
+                synthetic_reason: str = "", window_s: float = 10.0) -> Figure:
+    """Figs 4.2-4.5: measured vs modelled roll (left) and steer (right) for example runs,
+    numbered on the particular-solution roll map (top)."""
+    n = len(examples)
+    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
+    gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
+    ax = fig.add_subplot(gs[0, :])
+    cs = _contour(ax, ps, "roll", [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
+                                   for e in examples])
+    fig.colorbar(cs, ax=ax, label="log$_{10}$ roll amplitude (rad)")
+    ax.set_title(f"system {system}: particular-solution roll amplitude and example runs")
+    for i, e in enumerate(examples):
+        sel = e.t_s <= e.t_s[0] + window_s
+        for j, (meas, mod, name) in enumerate(((e.roll_rad, e.model_roll_rad, "roll"),
+                                                (e.steer_rad, e.model_steer_rad, "steer"))):
+            a = fig.add_subplot(gs[i + 1, j])
+            a.plot(e.t_s[sel], meas[sel] - meas.mean(), lw=0.8, label="measured")
+            a.plot(e.t_s[sel], mod[sel], lw=0.8, label="model (open loop)")
+            a.set_ylabel(f"{i + 1}: {name} (rad)", fontsize=7)
+            a.tick_params(labelsize=7)
+            if i == n - 1:
+                a.set_xlabel("time (s)")
+            if i == 0 and j == 0:
+                a.legend(fontsize=6, loc="upper right")
+            a.set_title(f"{e.speed_kmh:g} km/h, {e.cadence_rpm:.0f} rpm", fontsize=7)
+    fig.tight_layout()
+    _stamp(fig, synthetic_reason)
+    return fig
+
+
+def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
+                     sample_rate_hz: float, synthetic_reason: str = "") -> Figure:
+    """Figs 4.6-4.9: Hann spectra of measured and modelled roll and steer (Sec 3.1.2.1.1)."""
+    n = len(examples)
+    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
+    gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
+    ax = fig.add_subplot(gs[0, :])
+    cs = _contour(ax, ps, "steer", [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
+                                    for e in examples])
+    fig.colorbar(cs, ax=ax, label="log$_{10}$ steer amplitude (rad)")
+    ax.set_title(f"system {system}: particular-solution steer amplitude and example runs")
+    for i, e in enumerate(examples):
+        for j, (meas, mod, name) in enumerate(((e.roll_rad, e.model_roll_rad, "roll"),
+                                                (e.steer_rad, e.model_steer_rad, "steer"))):
+            a = fig.add_subplot(gs[i + 1, j])
+            f, am = spectral.spectrum(meas - meas.mean(), sample_rate_hz, "hann")
+            _, amod = spectral.spectrum(mod - mod.mean(), sample_rate_hz, "hann")
+            keep = f <= 6 * e.cadence_rpm / 60
+            a.semilogy(f[keep], am[keep], lw=0.8, label="measured")
+            a.semilogy(f[keep], np.clip(amod[keep], 1e-7, None), lw=0.8, label="model")
+            for k in (1, 2, 3):
+                a.axvline(k * e.cadence_rpm / 60, color="grey", lw=0.5, ls=":")
+            a.set_ylim(1e-6, None)
+            a.set_ylabel(f"{i + 1}: |{name}| (rad)", fontsize=7)
+            a.tick_params(labelsize=7)
+            if i == n - 1:
+                a.set_xlabel("frequency (Hz)")
+            if i == 0 and j == 0:
+                a.legend(fontsize=6, loc="upper right")
+    fig.tight_layout()
+    _stamp(fig, synthetic_reason)
+    return fig
+
+
+def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: str = ""
+             ) -> Figure:
+    """Fig 4.10: every run as a circle on the particular-solution map of its system; fill =
+    measured amplitude, edge = model / measured ratio."""
+    systems = list(maps)
+    fig, axes = plt.subplots(2, len(systems), figsize=(3.0 * len(systems), 6.0),
+                             squeeze=False, sharex=True, sharey=True)
+    norm = plt.Normalize(-3, -1)
+    rnorm = plt.Normalize(-1, 1)
+    for j, system in enumerate(systems):
+        sub = per_run[per_run.system == system]
+        for i, q in enumerate(("roll", "steer")):
+            ax = axes[i, j]
+            _contour(ax, maps[system], q)
+            sc = ax.scatter(sub.speed_kmh / 3.6, sub.cadence_rpm * np.pi / 30,
+                            c=np.log10(sub[f"{q}_measured_rad"]), cmap="magma", norm=norm,
+                            s=60, linewidths=2.0,
+                            edgecolors=plt.cm.coolwarm(rnorm(np.log10(
+                                sub[f"{q}_model_rad"] / sub[f"{q}_measured_rad"]))))
+            ax.set_title(f"{system} {q}", fontsize=9)
+            if i == 0:
+                ax.set_xlabel("")
+            if j:
+                ax.set_ylabel("")
+    fig.colorbar(sc, ax=axes, label="log$_{10}$ measured amplitude (rad)", shrink=0.6)
+    fig.colorbar(plt.cm.ScalarMappable(rnorm, "coolwarm"), ax=axes, shrink=0.6,
+                 label="edge: log$_{10}$(model / measured)")
+    _stamp(fig, synthetic_reason)
+    return fig
+
+
+def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "") -> Figure:
+    """Fig 4.11: relative difference model vs measurement of every run, per system."""
+    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.4), sharey=True)
+    for q, ax in zip(("roll", "steer"), axes, strict=True):
+        for system, sub in per_run.groupby("system", sort=False):
+            ax.plot(sub.speed_kmh, sub[f"{q}_rd_percent"], "o", label=system)
+        ax.set_yscale("log")
+        ax.set_xlabel("belt speed (km/h)")
+        ax.set_title(f"{q}: RD model vs measurement")
+    axes[0].set_ylabel("RD (%)")
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    _stamp(fig, synthetic_reason)
+    return fig
