@@ -341,3 +341,44 @@ def grid(step: float, maximum: float) -> np.ndarray:
     """``0:step:maximum`` as in Matlab (the end point included when it falls on the grid)."""
     count = int(np.floor(maximum / step + 1e-9)) + 1
     return np.arange(count) * step
+
+
+# --------------------------------------------------------------------------------------------
+# Grids and forcing from the workflow configuration (config/config.yaml, section ``linear``)
+# --------------------------------------------------------------------------------------------
+
+def ps_grid(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Particular-solution grid (Sec 3.1.2.2.1): speeds (m/s) and cadences (rad/s)."""
+    lin = cfg["linear"]
+    return (grid(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"]),
+            grid(lin["ps_omega_step_rad_s"], lin["ps_omega_max_rad_s"]))
+
+
+def time_grid(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Time-solution grid (Sec 3.1.2.1): speeds (m/s) and cadences (rad/s)."""
+    lin = cfg["linear"]
+    return (grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"]),
+            grid(lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"]))
+
+
+def time_samples(cfg: dict) -> np.ndarray:
+    """Sample times ``0 .. duration_s`` at ``sample_rate_hz``."""
+    lin = cfg["linear"]
+    dt = 1.0 / lin["sample_rate_hz"]
+    return np.arange(int(round(lin["duration_s"] / dt)) + 1) * dt
+
+
+def eigen_speeds(cfg: dict) -> np.ndarray:
+    """Speed grid of the eigenvalue sweeps."""
+    lin = cfg["linear"]
+    return grid(lin["eigen_speed_step_m_s"], lin["eigen_speed_max_m_s"])
+
+
+def forcing(model: str, cfg: dict | None = None, harmonics: tuple[int, ...] | None = None):
+    """Pedalling torque harmonics (Eq 3.14) acting on a model (its bicycle's legs)."""
+    from . import disturbance
+    from .linear import bicycle_of
+
+    if harmonics is None:
+        harmonics = tuple(cfg["linear"]["harmonics"]) if cfg else (1, 3, 5)
+    return disturbance.torque_harmonics(bicycle_of(model), harmonics=tuple(harmonics))

@@ -1,0 +1,138 @@
+"""Evaluation of model simplifications, solution methods and parameters (Sec 3.1.3, 3.2.4-3.2.5).
+
+Relative difference of cadence amplitudes (Eq 3.26)::
+
+    RD_{1->2} = | (|phi_1| - |phi_2|) / |phi_1| | * 100 %
+
+with case 1 the reference. The evaluation points this module computes need only linear
+methods (the others, 1a and 1b, need the non-linear models):
+
+====  =====================================================  ===========  ==============
+point what                                                   reference 1  case 2
+====  =====================================================  ===========  ==============
+1c    neglect speed and gravity                              PS           CAM
+2b    drop the 3w and 5w harmonics                           LA T(w,3w,5w) LA T(w)
+3a    numerical vs analytic time solution                    LA           LN
+3b    DFT of the time solution vs particular solution        PS           LA (Hann DFT)
+4     cycling condition vs the reference 60 rpm, 5 m/s        PS(ref)      PS(v, w)
+5     posture: rigid rider for hands on the bars             HS / CF      HR / CR
+6     bicycle design: city vs hybrid                         HR           CR
+====  =====================================================  ===========  ==============
+
+Six numbered example points (Fig 3.10-3.29) lie on one gear-ratio line, GR ~ 2.3 (Sec 3.2.1).
+The thesis does not list them; this project reads them as six equally spaced points of the
+time-solution grid diagonal ``v = 0.8 w`` (``v = 0:0.4:10`` and ``w = 0:0.5:4 pi`` advance
+together): GR = 0.8 / r_R = 2.36 (Stratos) and 2.35 (Browser), i.e. "~2.3". Every third
+diagonal point from the 8th, ``(v, w) = (3.2, 4), (4.4, 5.5), (5.6, 7), (6.8, 8.5), (8, 10),
+(9.2, 11.5)``, matches the text of Sec 3.2.1: point 1 falls quickly (large positive weave real
+part); point 3 of model HS (5.6 m/s) shows the slowly growing weave with a period of about 3 s
+(Im = 1.99 rad/s; the thesis: "around 1/3 Hz"); points 5 and 6 of HR and CR lie above the
+capsize speed, where falling takes long; points 2-6 of CF lie above the speed where its weave branch
+stabilises, where only the capsize root is unstable and the periodic part shows. Other spacings along the diagonal fit the
+text less well (with every fourth point from the 4th, HS point 3 would have Im = 1.77 rad/s, a
+3.6 s period).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import gears, linear
+
+#: The evaluation points of Sec 3.1.3 computed from linear methods only.
+LINEAR_POINTS: tuple[str, ...] = ("1c", "2b", "3a", "3b", "4", "5", "6")
+#: Comparisons of evaluation points 5 and 6: (reference model, compared model).
+MODEL_PAIRS: dict[str, tuple[tuple[str, str], ...]] = {
+    "5": (("HS", "HR"), ("CF", "CR")),
+    "6": (("HR", "CR"),),
+}
+#: Diagonal step of the time grid and the indices of the six example points.
+_DIAGONAL_SPEED_STEP_M_S = 0.4
+_DIAGONAL_OMEGA_STEP_RAD_S = 0.5
+_EXAMPLE_INDICES = (8, 11, 14, 17, 20, 23)
+
+
+@dataclass(frozen=True)
+class ExamplePoints:
+    """The six numbered speed-cadence points of Fig 3.10-3.29 for one model."""
+
+    speed_m_s: np.ndarray
+    omega_rad_s: np.ndarray
+    gear_ratio: float
+    series_speed_m_s: float
+    series_omega_rad_s: np.ndarray
+
+    @property
+    def labels(self) -> list[str]:
+        return [str(i + 1) for i in range(len(self.speed_m_s))]
+
+
+def example_points(model: str) -> ExamplePoints:
+    """The six numbered points on the GR ~ 2.3 line (Fig 3.10-3.17, 3.20-3.27).
+
+    Also the one-speed series of Fig 3.18, 3.19, 3.28, 3.29: the speed of point 3 with the six
+    cadences in decreasing order (Sec 3.2.2: "the cadence frequency peak shifts to lower
+    frequencies" as the number grows). See the module docstring for this reading.
+
+    Parameters
+    ----------
+    model
+        ``"benchmark"``, ``"HS"``, ``"CF"``, ``"HR"`` or ``"CR"`` (sets the wheel radius of GR).
+    """
+    idx = np.asarray(_EXAMPLE_INDICES, float)
+    v = idx * _DIAGONAL_SPEED_STEP_M_S
+    w = idx * _DIAGONAL_OMEGA_STEP_RAD_S
+    gr = float(_DIAGONAL_SPEED_STEP_M_S / _DIAGONAL_OMEGA_STEP_RAD_S
+               / gears.wheel_radius_m(linear.bicycle_of(model)))
+    return ExamplePoints(v, w, gr, float(v[2]), w[::-1].copy())
+
+
+def relative_difference(reference, other) -> np.ndarray:
+    """Eq 3.26 in percent; NaN where the reference amplitude is zero (no forcing, w = 0)."""
+    ref = np.abs(np.asarray(reference, float))
+    oth = np.abs(np.asarray(other, float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rd = np.abs((ref - oth) / ref) * 100.0
+    return np.where(ref > 0, rd, np.nan)
+
+
+def stable_speed_mask(model_name: str, speed_m_s: np.ndarray,
+                      eigen_step_m_s: float = 0.01) -> np.ndarray:
+    """Speeds inside a self-stable range of the model (all eigenvalue real parts < 0)."""
+    model = linear.linear_model(model_name)
+    v = np.asarray(speed_m_s, float)
+    grid = np.arange(0.0, max(v.max(), 0.0) + 2 * eigen_step_m_s, eigen_step_m_s)
+    ranges = linear.stable_ranges(model, grid)
+    mask = np.zeros(v.shape, bool)
+    for lo, hi in ranges:
+        mask |= (v > lo) & (v < hi)
+    return mask
+
+
+@dataclass
+class RDStats:
+    """Median and range of an RD map over a region (percent); ``count`` points used."""
+
+    median: float
+    minimum: float
+    maximum: float
+    count: int
+
+
+def rd_stats(rd: np.ndarray, mask: np.ndarray) -> RDStats | None:
+    """Median and range of ``rd`` where ``mask`` (and RD defined); ``None`` if nothing left."""
+    values = np.asarray(rd)[np.asarray(mask) & np.isfinite(rd)]
+    if values.size == 0:
+        return None
+    return RDStats(float(np.median(values)), float(values.min()), float(values.max()),
+                   int(values.size))
+
+
+def reference_indices(speed_m_s: np.ndarray, omega_rad_s: np.ndarray, speed_ref_m_s: float,
+                      omega_ref_rad_s: float) -> tuple[int, int]:
+    """Grid indices of the reference condition (evaluation point 4); exact grid point required."""
+    i = int(np.argmin(np.abs(speed_m_s - speed_ref_m_s)))
+    j = int(np.argmin(np.abs(omega_rad_s - omega_ref_rad_s)))
+    return i, j
