@@ -72,3 +72,32 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
 
     monkeypatch.setattr(model, "derive", boom)
     assert codegen.generated_source(model.ModelOptions()) == path
+
+
+def test_compiled_rhs_equals_generated_python():
+    """The C right-hand side and the generated Python agree to rounding (legs moving)."""
+    from pedalrepro.nonlinear import parameters as nlp
+
+    leg_params, spec, mean = nlp.leg_bodies("HR", 2.0 * np.pi)
+    nl = NonlinearModel(nlp.without_legs("HR", mean), model.ModelOptions(legs=True),
+                        leg_params, spec)
+    if nl._lib is None:
+        pytest.skip("no C compiler: only the Python path exists")
+    x = np.array([0.1, nl.nominal_pitch_rad, 0.05, 0.3, -12.0, -0.2])
+    np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
+                               rtol=1e-10, atol=1e-12)
+
+
+def test_moving_legs_mean_equals_rigid_rider():
+    """Removing the revolution-averaged leg bodies and adding them back restores body B."""
+    from pedalrepro.nonlinear import parameters as nlp
+
+    _, _, mean = nlp.leg_bodies("CR", 2.0 * np.pi)
+    rest = nlp.without_legs("CR", mean)
+    full = nlp.bicycle_rider("CR")
+    m, com, inertia = nlp._combine([nlp._body_b(rest)] + list(mean))
+    assert m == pytest.approx(full["mB"], rel=1e-12)
+    assert com[0] == pytest.approx(full["xB"], abs=1e-12)
+    assert com[2] == pytest.approx(full["zB"], abs=1e-12)
+    assert inertia[0, 0] == pytest.approx(full["IBxx"], rel=1e-12)
+    assert inertia[0, 2] == pytest.approx(full["IBxz"], rel=1e-10)

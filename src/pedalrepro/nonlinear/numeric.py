@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cache
 
 import numpy as np
 
@@ -25,6 +26,21 @@ from . import codegen, model
 from .model import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
 
 ZERO_SPEC: Callable[[float], np.ndarray] | None = None
+
+
+@cache
+def _load_library(options: model.ModelOptions):
+    """ctypes handle of the compiled right-hand side, or None (no C compiler)."""
+    import ctypes
+
+    path = codegen.compiled_library(options)
+    if path is None:
+        return None
+    lib = ctypes.CDLL(str(path))
+    dp = ctypes.c_void_p
+    lib.full_rhs.argtypes = [dp, dp, dp, ctypes.c_double, ctypes.c_double, dp, dp]
+    lib.full_rhs.restype = ctypes.c_int
+    return lib
 
 
 def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
@@ -81,8 +97,11 @@ class NonlinearModel:
     leg_parameters: dict[str, float] = field(default_factory=dict)
     spec: Callable[[float], np.ndarray] | None = None
 
+    compiled: bool = True
+
     def __post_init__(self) -> None:
         self._code = codegen.load(self.options)
+        self._lib = _load_library(self.options) if self.compiled else None
         values = moore_parameters(self.bench) | self.leg_parameters
         missing = [n for n in self._code.PARAMS if n not in values]
         if missing:
@@ -92,6 +111,8 @@ class NonlinearModel:
         if self.n_spec and self.spec is None:
             raise ValueError("a model with prescribed legs needs spec(t)")
         self._zero_spec = [0.0] * self.n_spec
+        self._zero_spec_arr = np.zeros(max(self.n_spec, 1))
+        self._p_arr = np.ascontiguousarray(self.p, dtype=float)
 
     # -- geometry -----------------------------------------------------------------------------
     @property
@@ -150,7 +171,27 @@ class NonlinearModel:
         return sol[:8], u
 
     def rhs(self, t: float, x, torque=(0.0, 0.0)) -> np.ndarray:
-        """State derivative ``x'`` (the equations of motion in first-order form)."""
+        """State derivative ``x'`` (the equations of motion in first-order form).
+
+        Uses the compiled library when available (:func:`codegen.compiled_library`), else the
+        generated Python (:meth:`rhs_python`, the reference).
+        """
+        if self._lib is None:
+            return self.rhs_python(t, x, torque)
+        s = self.spec(t) if self.spec is not None else self._zero_spec_arr
+        xa = np.ascontiguousarray(x, dtype=float)
+        out = np.empty(6)
+        status = self._lib.full_rhs(xa.ctypes.data, self._p_arr.ctypes.data,
+                                    np.ascontiguousarray(s, dtype=float).ctypes.data,
+                                    float(torque[0]), float(torque[1]), out.ctypes.data, None)
+        if status == 3:
+            out[:] = np.nan  # the caller (simulate) reports non-finite states
+        elif status:
+            raise ZeroDivisionError(f"singular constraint/mass matrix at t = {t} (state {x})")
+        return out
+
+    def rhs_python(self, t: float, x, torque=(0.0, 0.0)) -> np.ndarray:
+        """State derivative from the generated Python code (reference implementation)."""
         ud, u = self.accelerations(t, x, torque)
         return np.array([u[ROLL], u[PITCH], u[STEER], ud[ROLL], ud[REAR_WHEEL], ud[STEER]])
 
