@@ -153,8 +153,10 @@ def test_every_page_in_a_browser(served_book):
     coverage = report.figure_coverage()
     produced = set(coverage.loc[coverage["present"], "id"])
     produced |= {p.stem for p in (results / "figures").glob("fig_*.png")}
-    assert sorted(produced - set(shown)) == [], "produced but not shown in the book"
-    assert sorted(set(shown) - set(coverage["id"])) == [], "shown ids not in data/figure_ids.yaml"
+    not_shown = sorted(produced - set(shown))
+    assert not not_shown, f"produced but not shown in the book (figures.show): {not_shown}"
+    unknown = sorted(set(shown) - set(coverage["id"]))
+    assert not unknown, f"shown ids not in data/figure_ids.yaml: {unknown}"
     width, height = _png_size(results / "book" / "report.png")
     assert width >= 1000 and height >= 600
     print(f"\nbrowser: {len(pages)} pages, {len(shown)} of {len(coverage)} figure ids shown, "
