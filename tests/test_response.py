@@ -114,3 +114,11 @@ def test_grid_matches_matlab_colon():
     assert len(response.grid(0.124, 4 * np.pi)) == 102
     assert len(response.grid(0.1, 10.0)) == 101
     assert len(response.grid(0.5, 4 * np.pi)) * len(response.grid(0.4, 10.0)) == 676
+
+
+def test_solve_2x2_equals_lapack():
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(50, 3, 2, 2)) + 1j * rng.normal(size=(50, 3, 2, 2))
+    b = rng.normal(size=(50, 3, 2)) + 1j * rng.normal(size=(50, 3, 2))
+    np.testing.assert_allclose(response.solve_2x2(a, b), np.linalg.solve(a, b[..., None])[..., 0],
+                               rtol=1e-9)

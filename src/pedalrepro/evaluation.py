@@ -27,10 +27,10 @@ diagonal point from the 8th, ``(v, w) = (3.2, 4), (4.4, 5.5), (5.6, 7), (6.8, 8.
 (9.2, 11.5)``, matches the text of Sec 3.2.1: point 1 falls quickly (large positive weave real
 part); point 3 of model HS (5.6 m/s) shows the slowly growing weave with a period of about 3 s
 (Im = 1.99 rad/s; the thesis: "around 1/3 Hz"); points 5 and 6 of HR and CR lie above the
-capsize speed, where falling takes long; points 2-6 of CF lie above the speed where its weave branch
-stabilises, where only the capsize root is unstable and the periodic part shows. Other spacings along the diagonal fit the
-text less well (with every fourth point from the 4th, HS point 3 would have Im = 1.77 rad/s, a
-3.6 s period).
+capsize speed, where falling takes long; points 2-6 of CF lie above the speed where its weave
+branch stabilises, where only the capsize root is unstable and the periodic part shows. Other
+spacings along the diagonal fit the text less well (with every fourth point from the 4th, HS
+point 3 would have Im = 1.77 rad/s, a 3.6 s period).
 """
 
 from __future__ import annotations

@@ -106,10 +106,25 @@ def particular_solution(
     freq = w[..., None] * n  # (..., k)
     a = dynamic_stiffness(model, v[..., None], freq)  # (..., k, 2, 2)
     rhs = coef * (freq**2)[..., None]  # (..., k, 2)
+    q = solve_2x2(a, rhs)
     # zero forcing (w = 0) gives zero response, also where the matrix is singular
-    a = np.where((freq == 0)[..., None, None], np.eye(2), a)
-    q = np.linalg.solve(a, rhs[..., None])[..., 0]
+    q = np.where((freq == 0)[..., None], 0.0, q)
     return q[..., 0], q[..., 1]
+
+
+def solve_2x2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Batched solution of ``a x = b`` for 2 x 2 systems, ``a`` (..., 2, 2), ``b`` (..., 2).
+
+    Cramer's rule, exact for 2 x 2 and fully vectorised (the same result as
+    ``np.linalg.solve(a, b[..., None])[..., 0]``, checked in the tests, without LAPACK's
+    per-matrix call overhead). A singular matrix gives inf/NaN entries, never an exception.
+    """
+    a11, a12, a21, a22 = a[..., 0, 0], a[..., 0, 1], a[..., 1, 0], a[..., 1, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_det = 1.0 / (a11 * a22 - a12 * a21)
+        x0 = (a22 * b[..., 0] - a12 * b[..., 1]) * inv_det
+        x1 = (a11 * b[..., 1] - a21 * b[..., 0]) * inv_det
+    return np.stack([x0, x1], axis=-1)
 
 
 def particular_solution_loop(model: LinearModel, speed_m_s: np.ndarray, omega_rad_s: np.ndarray,
@@ -204,20 +219,23 @@ def analytic_time_solution(
     roll_out = np.empty((len(v_grid), len(w_grid), len(t)))
     steer_out = np.empty_like(roll_out)
     lam_all, vec_all = np.linalg.eig(state_matrix(model, v_grid))  # (n_v, 4), (n_v, 4, 4)
+    # forcing phases exp(i n w t) do not depend on speed: cos/sin once for the whole grid
+    arg = (w_grid[:, None, None] * n[None, :, None]) * t[None, None, :]  # (n_w, k, n_t)
+    cos_p, sin_p = np.cos(arg), np.sin(arg)
+    del arg
+    freq = w_grid[:, None] * n[None, :]  # (n_w, k)
     for i, v in enumerate(v_grid):
         rq, sq = particular_solution(model, v, w_grid, harmonics)  # (n_w, k)
         q = np.stack([rq, sq], axis=-2)  # (n_w, 2, k)
-        freq = w_grid[:, None] * n[None, :]  # (n_w, k)
         x0 = np.concatenate([q.sum(-1).real, (1j * freq[:, None, :] * q).sum(-1).real], axis=-1)
         lam, vec = lam_all[i], vec_all[i]
         c = np.linalg.solve(vec, -x0.T).T  # (n_w, 4)
+        # cap the growth: a run has fallen long before exp(700); keeps 0 * growth = 0
+        expo = np.multiply.outer(lam, t)
+        hom = np.exp(np.minimum(expo.real, 700.0) + 1j * expo.imag)  # (4, n_t)
         with np.errstate(over="ignore", invalid="ignore"):
-            # cap the growth: a run has fallen long before exp(700); keeps 0 * growth = 0
-            expo = np.multiply.outer(lam, t)
-            hom = np.exp(np.minimum(expo.real, 700.0) + 1j * expo.imag)  # (4, n_t)
-            qh = np.einsum("wm,jm,mt->wjt", c, vec[0:2, :], hom).real  # (n_w, 2, n_t)
-            ph = np.exp(1j * freq[..., None] * t)  # (n_w, k, n_t)
-            qp = np.einsum("wjk,wkt->wjt", q, ph).real
+            qh = ((c[:, None, :] * vec[None, 0:2, :]) @ hom).real  # (n_w, 2, n_t)
+            qp = q.real @ cos_p - q.imag @ sin_p  # Re(q exp(i n w t)), (n_w, 2, n_t)
             x = qh + qp
         roll_out[i], steer_out[i] = x[:, 0], x[:, 1]
     roll_out, steer_out, t_end, fell = _truncate_at_fall(roll_out, steer_out, t, fall_roll_rad)
@@ -296,7 +314,7 @@ def numerical_time_solutions(
 
 
 def cadence_amplitudes(sol: TimeSolution, sample_rate_hz: float, window: str | None = "hann",
-                       min_samples: int = 2, chunk: int = 32) -> tuple[np.ndarray, np.ndarray]:
+                       min_samples: int = 2, chunk: int = 64) -> tuple[np.ndarray, np.ndarray]:
     """Hann-windowed DFT amplitude at the cadence of each time solution (Sec 3.1.2.1.1).
 
     Each run is analysed over what was simulated (up to its fall). Runs at zero cadence have
@@ -308,29 +326,33 @@ def cadence_amplitudes(sol: TimeSolution, sample_rate_hz: float, window: str | N
         Shape (n_v, n_w).
     """
     n_v, n_w = sol.t_end_s.shape
+    n_t = sol.roll_rad.shape[-1]
     roll_amp = np.zeros((n_v, n_w))
     steer_amp = np.zeros((n_v, n_w))
-    valid = np.isfinite(sol.roll_rad)
-    n_valid = valid.sum(axis=-1)
-    for length in np.unique(n_valid):  # group runs of equal record length: one batched DFT each
+    # the DFT kernel at each cadence, exp(-i w k / f_s), once for the grid (Eq 3.2 at f = w/2pi)
+    arg = np.multiply.outer(sol.omega_rad_s, np.arange(n_t) / sample_rate_hz)
+    cos_k, sin_k = np.cos(arg), np.sin(arg)
+    del arg
+    col = np.broadcast_to(np.arange(n_w)[None, :], (n_v, n_w))
+    n_valid = np.isfinite(sol.roll_rad).sum(axis=-1)
+    for length in np.unique(n_valid):  # runs of equal record length share one window
         sel = n_valid == length
         if length < min_samples:
             roll_amp[sel] = np.nan
             steer_amp[sel] = np.nan
             continue
-        f_hz = np.broadcast_to(sol.omega_rad_s[None, :], (n_v, n_w))[sel] / (2 * np.pi)
-        roll_sel = sol.roll_rad[sel, :length]
-        steer_sel = sol.steer_rad[sel, :length]
-        r_out = np.empty(len(f_hz))
-        s_out = np.empty(len(f_hz))
-        for lo in range(0, len(f_hz), chunk):  # bounded memory: chunk x length kernel
-            hi = lo + chunk
-            r_out[lo:hi] = np.abs(spectral.coefficient_at(roll_sel[lo:hi], sample_rate_hz,
-                                                          f_hz[lo:hi], window))
-            s_out[lo:hi] = np.abs(spectral.coefficient_at(steer_sel[lo:hi], sample_rate_hz,
-                                                          f_hz[lo:hi], window))
-        roll_amp[sel] = r_out
-        steer_amp[sel] = s_out
+        h = spectral.window(int(length), window)
+        idx = col[sel]
+        for name, out in (("roll_rad", roll_amp), ("steer_rad", steer_amp)):
+            x = getattr(sol, name)[sel, :length] * h
+            res = np.empty(len(idx))
+            for lo in range(0, len(idx), chunk):  # bounded memory
+                j = idx[lo:lo + chunk]
+                xs = x[lo:lo + chunk]
+                re = np.einsum("mn,mn->m", xs, cos_k[j, :length])
+                im = np.einsum("mn,mn->m", xs, sin_k[j, :length])
+                res[lo:lo + chunk] = 2.0 * np.hypot(re, im) / h.sum()
+            out[sel] = res
     zero = sol.omega_rad_s == 0
     roll_amp[:, zero] = 0.0
     steer_amp[:, zero] = 0.0
