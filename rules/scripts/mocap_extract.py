@@ -5,6 +5,7 @@ Writes one row per dynamic run (runs.csv) and the angle series (series.npz, for 
 
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -29,6 +30,15 @@ for _, meta in index.iterrows():
         "yaw_measured_rad": a.amplitudes["yaw_amp_rad"],
         "repaired_fraction": a.kin.repaired_fraction, "data_source": source["data_source"],
     })
+    truth = Path(snakemake.input.runs) / "truth" / f"{rid:04d}.npz"
+    if source["data_source"] == "synthetic" and truth.is_file():
+        # the stand-in's ground truth: how well the extraction recovers it
+        tr = np.load(truth)
+        for q in ("roll", "steer", "yaw"):
+            rows[-1][f"{q}_truth_rms_rad"] = float(
+                np.sqrt(np.mean((getattr(a.kin, f"{q}_rad") - tr[f"{q}_rad"]) ** 2)))
+        rows[-1]["cadence_truth_error_percent"] = float(
+            100 * (a.cadence.cadence_rpm / float(tr["cadence_rpm"]) - 1))
     for name in ("t_s", "roll_rad", "steer_rad", "yaw_rad", "crank_rad"):
         series[f"{rid}_{name}"] = getattr(a.kin, name)
     print(rid, meta.system, a.run.speed_kmh, f"{a.cadence.cadence_rpm:.2f} rpm",
