@@ -376,3 +376,19 @@ def test_cached_files_verified_against_registry(monkeypatch, tmp_path, stand_in)
         fetch.fetch(name, pup)
     with pytest.raises(KeyError, match="not in the registry"):
         fetch.verify(pup, "9999.mat")
+
+
+def test_registry_listed_but_not_cached_offline(monkeypatch, tmp_path):
+    # files listed in the registry but absent from the cache, network down: auto -> stand-in,
+    # figshare -> clear error; fetching one file -> DataUnavailableError, not a silent NaN table
+    monkeypatch.setattr(pooch.Pooch, "load_registry_from_doi", _offline)
+    monkeypatch.setattr(pooch.Pooch, "fetch", _offline)
+    monkeypatch.setenv(fetch.ENV, str(tmp_path))
+    reg = tmp_path / "registry.txt"
+    fetch.write_registry({"3082.mat": "md5:" + "0" * 32}, reg)
+    pup = fetch.make_pooch(registry=reg)
+    assert fetch.resolve_source("auto", pup)[0] == "synthetic"
+    with pytest.raises(fetch.DataUnavailableError):
+        fetch.resolve_source("figshare", pup)
+    with pytest.raises(fetch.DataUnavailableError, match="cannot be reached"):
+        fetch.run_files(pup, progressbar=False)

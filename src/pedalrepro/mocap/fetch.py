@@ -189,8 +189,9 @@ def resolve_source(requested: str = "auto", pup: pooch.Pooch | None = None
     if pup.registry and cached_complete(pup):
         return "figshare", "all registry files cached and verified"
     try:
-        if not pup.registry:
-            pup.load_registry_from_doi()
+        # reachability (and the file list, when the registry is still empty): one API call
+        probe = pup if not pup.registry else make_pooch(registry=None, path=pup.abspath)
+        probe.load_registry_from_doi()
         return "figshare", f"downloadable from figshare (DOI {DOI})"
     except OSError as exc:
         if requested == "figshare":
