@@ -372,6 +372,21 @@ def static_run(bicycle: str, mocap_cfg: dict, seed: int, trial: int) -> dict:
     return {"x": mm[..., 0], "y": mm[..., 1], "z": mm[..., 2]}
 
 
+#: Fixed 116-byte text header of the stand-in files (scipy writes the creation time there, which
+#: would make two identical runs differ byte-wise).
+MAT_HEADER = b"MATLAB 5.0 MAT-file, written by pedalrepro.mocap.synthetic (stand-in, not data)"
+
+
+def savemat(path: str | Path, variables: dict, compress: bool = True) -> Path:
+    """``scipy.io.savemat`` (MATLAB 5 format, as published) with a fixed header text, so the
+    same inputs give byte-identical files."""
+    path = Path(path)
+    scipy.io.savemat(str(path), variables, do_compression=compress, oned_as="column")
+    with path.open("r+b") as fh:
+        fh.write(MAT_HEADER.ljust(116, b" "))
+    return path
+
+
 def write_stand_in(out_dir: str | Path, mocap_cfg: dict, seed: int) -> pd.DataFrame:
     """Write every stand-in run (``RNNN.mat``) and its truth (``truth/RNNN.npz``) to ``out_dir``.
 
@@ -386,7 +401,7 @@ def write_stand_in(out_dir: str | Path, mocap_cfg: dict, seed: int) -> pd.DataFr
         style = GAP_STYLES[i % len(GAP_STYLES)]
         mat, truth = simulate_run(run, mocap_cfg, seed, style)
         path = out / f"{run.run_id:04d}.mat"
-        scipy.io.savemat(str(path), mat, do_compression=True, oned_as="column")
+        savemat(path, mat)
         np.savez_compressed(out / "truth" / f"{run.run_id:04d}.npz", **truth)
         rows.append({
             "run_id": run.run_id, "system": run.system, "bicycle": run.bicycle,
@@ -397,8 +412,7 @@ def write_stand_in(out_dir: str | Path, mocap_cfg: dict, seed: int) -> pd.DataFr
             "gap_style": style, "gap_fraction": truth["gap_fraction"], "file": path.name,
         })
     for bicycle, trial in (("stratos", 1), ("browser", 51)):
-        scipy.io.savemat(str(out / f"3{trial:03d}.mat"), static_run(bicycle, mocap_cfg, seed,
-                                                                    trial))
+        savemat(out / f"3{trial:03d}.mat", static_run(bicycle, mocap_cfg, seed, trial))
     index = pd.DataFrame(rows)
     index.to_csv(out / "truth" / "truth.csv", index=False)
     return index
