@@ -400,9 +400,11 @@ def fig_neglected_momenta(speed_m_s: np.ndarray, omega_rad_s: np.ndarray, ratios
         w_line = np.linspace(1e-3, omega_rad_s.max(), 100)
         v1 = gears.speed_m_s(gear_ratios[0], w_line, wheel_radius_m)
         v4 = gears.speed_m_s(gear_ratios[1], w_line, wheel_radius_m)
-        ax.fill_betweenx(w_line, v1, np.minimum(v4, speed_m_s.max()), color="none",
-                         hatch="//", edgecolor="0.6", lw=0, label=f"GR {gear_ratios[0]}-"
-                         f"{gear_ratios[1]}")
+        ax.fill_betweenx(w_line, v1, np.minimum(v4, speed_m_s.max()), facecolor="none",
+                         hatch="//", edgecolor="0.6", lw=0.0,
+                         label=f"GR {gear_ratios[0]}-{gear_ratios[1]}")
+        ax.plot(v1, w_line, color="0.5", lw=0.8)
+        ax.plot(v4, w_line, color="0.5", lw=0.8)
         ax.set_xlim(0, speed_m_s.max())
         ax.set_title(f"{name}: model {model}; filled = all terms < 1/4 of $L_L$")
         ax.set_xlabel("forward speed v (m/s)")
@@ -619,7 +621,7 @@ def draw(fid: str, cfg: Mapping, time_methods: Sequence[str] | None = None) -> F
     if fid not in FIGURE_SPECS:
         raise KeyError(f"{fid!r} is not a figure of the linear part")
     func, kw = FIGURE_SPECS[fid]
-    lin = cfg["linear"]
+    lin = cfg.get("linear", {})
     models = spec_models(fid)
     needs = NEEDS[func]
     fn = globals()[func]
