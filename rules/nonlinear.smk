@@ -1,1 +1,144 @@
-# Rules of the nonlinear part (see rules/common.smk for helpers).
+# Rules of the nonlinear part (thesis Sec 3.1.1.3, 3.1.2.1, 3.2.4; see rules/common.smk):
+# the symbolic models derived and compiled once (cached), their linearisations (benchmark vs
+# Meijaard 2007, HR/CR vs Appendix B), the NT/NP time-solution sweeps split by method, model and
+# speed chunk, the report rows of evaluation points 1a, 1b, 2a, PS vs NP, and fig_3_34.
+
+NONLINEAR_MODELS = list(config["nonlinear"]["models"])
+NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
+NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
+                     "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
+                     "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep") + [
+    f"{PKG}/nonlinear/rhs_driver.c"]
+NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
+                        "data/parameters/legs.yaml"]
+# NT and NP exist for NONLINEAR_MODELS only (HR, CR): the linear figures draw every time method
+# for all four models, so TIME_METHODS is extended only when all four have a non-linear model.
+if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
+    TIME_METHODS.extend(["NT", "NP"])
+
+
+rule nonlinear_codegen:
+    input:
+        code=NONLINEAR_CODE,
+    output:
+        interm("nonlinear/codegen.txt"),
+    log:
+        logfile("nonlinear_codegen"),
+    message:
+        "Deriving the non-linear models with SymBRiM and generating their code (cached: once)"
+    script:
+        "scripts/nonlinear_codegen.py"
+
+
+rule nonlinear_linearisation:
+    input:
+        code=NONLINEAR_CODE,
+        codegen=interm("nonlinear/codegen.txt"),
+        parameters=NONLINEAR_PARAMETERS + ["data/parameters/appendix_b.yaml"],
+    output:
+        benchmark=table("benchmark_linearisation"),
+        appendix_b=table("linearisation_vs_appendix_b"),
+        own=interm("nonlinear/linearisation_own.npz"),
+    params:
+        models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_linearisation"),
+    message:
+        "Linearising the non-linear benchmark and {params.models} models at upright motion"
+    script:
+        "scripts/nonlinear_linearisation.py"
+
+
+rule nonlinear_time_chunk:
+    input:
+        code=NONLINEAR_CODE,
+        codegen=interm("nonlinear/codegen.txt"),
+        parameters=NONLINEAR_PARAMETERS,
+    output:
+        interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
+    wildcard_constraints:
+        method="NT|NP",
+        model="|".join(NONLINEAR_MODELS),
+        chunk=r"\d+",
+    threads: 1
+    log:
+        logfile("nonlinear_time_{method}_{model}_{chunk}"),
+    benchmark:
+        bench("nonlinear_time_{method}_{model}_{chunk}")
+    message:
+        "Non-linear time solutions ({wildcards.method}) of {wildcards.model}, speed chunk "
+        "{wildcards.chunk}"
+    script:
+        "scripts/nonlinear_time.py"
+
+
+rule nonlinear_time:
+    input:
+        code=NONLINEAR_CODE,
+        chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
+                                 method=wc.method, model=wc.model,
+                                 chunk=range(NONLINEAR_CHUNKS)),
+    output:
+        interm("time/{method}_{model}.npz"),
+    wildcard_constraints:
+        method="NT|NP",
+        model="|".join(NONLINEAR_MODELS),
+    threads: 1
+    log:
+        logfile("nonlinear_time_{method}_{model}"),
+    benchmark:
+        bench("nonlinear_time_{method}_{model}")
+    message:
+        "Joining the {wildcards.method} sweep of {wildcards.model} and its six example runs"
+    script:
+        "scripts/nonlinear_merge.py"
+
+
+rule nonlinear_report:
+    input:
+        code=NONLINEAR_CODE + pkg("report"),
+        benchmark=table("benchmark_linearisation"),
+        own=interm("nonlinear/linearisation_own.npz"),
+        time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
+              for method in ("NT", "NP")],
+        meijaard="data/published/meijaard2007.yaml",
+        published="data/published/thesis_values.yaml",
+    output:
+        report=f"{R}/tables/report/nonlinear.csv",
+        maps=interm("nonlinear/rd_maps.npz"),
+    params:
+        models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_report"),
+    message:
+        "Report rows of the non-linear part: linearisation, 1a, 1b, 2a, PS vs NP"
+    script:
+        "scripts/nonlinear_report.py"
+
+
+rule nonlinear_figure:
+    input:
+        code=pkg("figures/__init__", "figures/nonlinear"),
+        style=f"{PKG}/pedalrepro.mplstyle",
+        maps=interm("nonlinear/rd_maps.npz"),
+        appendix_b=table("linearisation_vs_appendix_b"),
+    output:
+        fig_3_34=figure("fig_3_34"),
+        appendix_b=figure("nonlinear_linearisation_vs_appendix_b"),
+    log:
+        logfile("nonlinear_figure"),
+    message:
+        "Figures of the non-linear part: fig_3_34 and the Appendix B comparison"
+    script:
+        "scripts/nonlinear_figure.py"
+
+
+REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
+BOOK_INPUTS.extend([
+    table("benchmark_linearisation"),
+    table("linearisation_vs_appendix_b"),
+    interm("nonlinear/rd_maps.npz"),
+    figure("fig_3_34"),
+    figure("nonlinear_linearisation_vs_appendix_b"),
+] + [interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
+     for method in ("NT", "NP")])

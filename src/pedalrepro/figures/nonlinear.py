@@ -1,0 +1,57 @@
+"""Figures of the non-linear models (thesis Sec 3.1.1.3, 3.2.4): fig_3_34 and the model checks."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.colors import LogNorm
+
+
+def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
+    """RD (Eq 3.26) of the particular solution vs the non-linear pedalling model NP (Fig 3.34).
+
+    Parameters
+    ----------
+    maps
+        ``speed_m_s``, ``omega_rad_s``, ``models`` and ``<model>_<roll|steer>_ps_np`` (percent,
+        speed x cadence), ``<model>_stable`` (speeds inside the self-stable range), as written by
+        the ``nonlinear_report`` rule (``results/intermediate/nonlinear/rd_maps.npz``).
+    """
+    v, w = np.asarray(maps["speed_m_s"]), np.asarray(maps["omega_rad_s"])
+    models = [str(m) for m in np.atleast_1d(maps["models"])]
+    fig, axes = plt.subplots(2, len(models), figsize=(4.2 * len(models), 6.4), squeeze=False,
+                             sharex=True, sharey=True)
+    norm = LogNorm(1e-2, 1e2)
+    mesh = None
+    for j, name in enumerate(models):
+        for i, dof in enumerate(("roll", "steer")):
+            ax = axes[i, j]
+            rd = np.asarray(maps[f"{name}_{dof}_ps_np"], float)
+            shown = np.clip(np.where(np.isfinite(rd), rd, np.nan), 1e-2, 1e2)
+            mesh = ax.pcolormesh(w, v, shown, norm=norm, cmap="viridis", shading="nearest")
+            stable = np.asarray(maps[f"{name}_stable"], bool)
+            if stable.any():
+                ax.axhspan(v[stable].min(), v[stable].max(), fill=False, ls="--", ec="w", lw=1.2)
+            ax.set_title(f"{name}: {dof}")
+            if i == 1:
+                ax.set_xlabel(r"cadence $\omega$ (rad/s)")
+            if j == 0:
+                ax.set_ylabel("speed v (m/s)")
+    fig.colorbar(mesh, ax=axes, label="RD PS vs NP (%)")
+    return fig
+
+
+def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
+    """Relative difference of the project's HR/CR linearisation from thesis Appendix B."""
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]
+    for name, group in table.groupby("model", sort=False):
+        idx = [k for k, r in enumerate(table.itertuples()) if r.model == name]
+        ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name)
+    ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
+    ax.set_ylabel("|project - App. B| / |App. B| (%)")
+    ax.legend()
+    return fig

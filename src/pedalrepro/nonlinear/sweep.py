@@ -1,0 +1,104 @@
+"""Time solutions of the non-linear models on the speed x cadence grid: methods NT and NP.
+
+NT (Sec 3.1.2.1, Fig 3.7): legs fixed to the rear frame (lumped into body B) plus the harmonic
+generalised pedalling torques of Eq 3.14 (w, 3w, 5w). NP: legs and cranks move as prescribed by
+the four-bar at the cadence (no torques applied: the pedalling disturbance comes from the leg
+motion itself). Each run starts upright and straight ahead at the grid speed with zero roll and
+steer rates (Sec 3.1.2.2), ends at the fall event or the horizon, and is reduced to the
+Hann-windowed DFT amplitude at the cadence (Sec 3.1.2.1.1, ``spectral.amplitude_at``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import spectral
+from ..simulate import Simulation, harmonic_torque, simulate
+from . import model as _model
+from . import parameters as nlp
+from .numeric import NonlinearModel
+
+METHODS: tuple[str, ...] = ("NT", "NP")
+
+
+@dataclass
+class RunSettings:
+    """Integration settings of a sweep (config ``nonlinear`` and ``linear`` time keys)."""
+
+    duration_s: float
+    sample_rate_hz: float
+    rtol: float
+    atol: float
+    fall_roll_rad: float
+    method: str = "RK45"
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> RunSettings:
+        lin, nl = cfg["linear"], cfg["nonlinear"]
+        return cls(lin["duration_s"], lin["sample_rate_hz"], nl["rtol"], nl["atol"],
+                   nl["fall_roll_rad"], nl["method"])
+
+
+def nt_model(name: str) -> NonlinearModel:
+    """The NT model: rigid rider with the legs lumped into body B."""
+    return NonlinearModel(nlp.bicycle_rider(name))
+
+
+def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
+    """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
+    leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
+    return NonlinearModel(nlp.without_legs(name, mean), _model.ModelOptions(legs=True),
+                          leg_params, spec)
+
+
+def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,
+        settings: RunSettings, nt: NonlinearModel | None = None) -> Simulation | None:
+    """One time solution; ``None`` at zero cadence (no forcing: the upright motion persists)."""
+    if omega_rad_s <= 0:
+        return None
+    kw = dict(rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
+              method=settings.method)
+    if method == "NT":
+        nl = nt if nt is not None else nt_model(name)
+        return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
+                        torque=harmonic_torque(harmonics, omega_rad_s), **kw)
+    if method == "NP":
+        return simulate(np_model(name, omega_rad_s), speed_m_s, settings.duration_s,
+                        settings.sample_rate_hz, **kw)
+    raise ValueError(f"unknown non-linear method {method!r}: expected one of {METHODS}")
+
+
+def amplitudes(sim: Simulation | None, omega_rad_s: float, sample_rate_hz: float,
+               min_samples: int = 2) -> tuple[float, float]:
+    """Hann-windowed DFT amplitude at the cadence over the simulated part (NaN if too short)."""
+    if sim is None:
+        return 0.0, 0.0
+    ok = np.isfinite(sim.roll_rad)
+    if ok.sum() < min_samples:
+        return np.nan, np.nan
+    f = omega_rad_s / (2 * np.pi)
+    return (float(spectral.amplitude_at(sim.roll_rad[ok], sample_rate_hz, f)),
+            float(spectral.amplitude_at(sim.steer_rad[ok], sample_rate_hz, f)))
+
+
+def grid_runs(method: str, name: str, speeds_m_s, omegas_rad_s, harmonics,
+              settings: RunSettings) -> dict[str, np.ndarray]:
+    """Amplitudes, end times and fall flags on ``speeds x omegas`` (one run per point)."""
+    v = np.asarray(speeds_m_s, float)
+    w = np.asarray(omegas_rad_s, float)
+    shape = (v.size, w.size)
+    out = {k: np.zeros(shape) for k in ("roll_amp_rad", "steer_amp_rad", "t_end_s")}
+    out["fell"] = np.zeros(shape, bool)
+    out["n_rhs"] = np.zeros(shape, int)
+    nt = nt_model(name) if method == "NT" else None
+    for i, vi in enumerate(v):
+        for j, wj in enumerate(w):
+            sim = run(method, name, vi, wj, harmonics, settings, nt)
+            out["roll_amp_rad"][i, j], out["steer_amp_rad"][i, j] = amplitudes(
+                sim, wj, settings.sample_rate_hz)
+            out["t_end_s"][i, j] = settings.duration_s if sim is None else sim.t_end_s
+            out["fell"][i, j] = False if sim is None else sim.fell
+            out["n_rhs"][i, j] = 0 if sim is None else sim.n_rhs
+    return out
