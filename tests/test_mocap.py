@@ -409,3 +409,24 @@ def test_stand_in_folder_end_to_end_is_byte_reproducible(tmp_path):
     assert len(sel) == 7 and sel.run_id.is_unique
     with pytest.raises(KeyError, match="no HR run at"):
         runs.table_4_1_runs(index[index.speed_kmh != 25.0])
+
+
+def test_table_4_1_selection_prefers_the_header_cadence():
+    # Two HR runs at 25 km/h (the data set has runs in another gear): the one whose detected
+    # cadence is nearest the table header's is taken, whatever its number.
+    v = runs.validation_runs()
+    rows = [{"run_id": 3040 + i, "rider": 3, "system": c["system"],
+             "speed_kmh": float(c["speed_kmh"])} for i, c in enumerate(v["table_4_1"])]
+    rows.append({"run_id": 3030, "rider": 3, "system": "HR", "speed_kmh": 25.2})
+    index = pd.DataFrame(rows)
+    header = {(c["system"], float(c["speed_kmh"])): float(c["cadence_rpm"])
+              for c in v["table_4_1"]}
+    hr25 = header[("HR", 25.0)]
+    cad = {r["run_id"]: header[(r["system"], r["speed_kmh"])] for r in rows[:-1]}
+    cad[3030] = hr25 + 0.3
+    cad[3042] = hr25 - 12.0  # the other gear
+    sel = runs.table_4_1_runs(index, cad)
+    assert sel.loc[(sel.system == "HR") & (sel.speed_kmh == 25.0), "run_id"].item() == 3030
+    # without cadences: the closest speed
+    sel = runs.table_4_1_runs(index)
+    assert sel.loc[(sel.system == "HR") & (sel.speed_kmh == 25.0), "run_id"].item() == 3042

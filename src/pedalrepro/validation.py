@@ -22,7 +22,8 @@ import pandas as pd
 from . import disturbance, linear, params, report, response
 
 TABLE_4_1_COLUMNS: tuple[str, ...] = (
-    "system", "speed_kmh", "cadence_rpm", "roll_measured_rad", "roll_model_rad",
+    "system", "speed_kmh", "cadence_rpm", "cadence_measured_rpm", "roll_measured_rad",
+    "roll_model_rad",
     "roll_difference_rad", "roll_rd_percent", "steer_measured_rad", "steer_model_rad",
     "steer_difference_rad", "steer_rd_percent", "data_source",
 )
@@ -102,17 +103,22 @@ def table_4_1(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.DataFra
               data_source: str) -> pd.DataFrame:
     """Table 4.1: measured and model amplitudes of the seven hands-free runs, median and range.
 
+    ``cadence_rpm`` is the table header's cadence (the model's input);
+    ``cadence_measured_rpm`` the cadence detected in the selected run.
+
     Parameters
     ----------
     measured
-        Per-run extraction (``run_id``, ``roll_measured_rad``, ``steer_measured_rad``).
+        Per-run extraction (``run_id``, ``cadence_rpm``, ``roll_measured_rad``,
+        ``steer_measured_rad``).
     selection
         :func:`pedalrepro.mocap.runs.table_4_1_runs`: ``system, speed_kmh, cadence_rpm, run_id``.
     model
         The linear part's ``table_4_1_model.csv`` (``system, speed_kmh, cadence_rpm,
         roll_model_rad, steer_model_rad``).
     """
-    df = selection.merge(measured[["run_id", "roll_measured_rad", "steer_measured_rad"]],
+    meas = measured[["run_id", "cadence_rpm", "roll_measured_rad", "steer_measured_rad"]]
+    df = selection.merge(meas.rename(columns={"cadence_rpm": "cadence_measured_rpm"}),
                          on="run_id", how="left", validate="one_to_one")
     if df[["roll_measured_rad", "steer_measured_rad"]].isna().any().any():
         missing = df.loc[df.roll_measured_rad.isna(), "run_id"].tolist()

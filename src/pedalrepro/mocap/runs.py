@@ -65,22 +65,29 @@ def select_system(index: pd.DataFrame, system: str, rider: int | None = None) ->
     return sel.sort_values(["speed_kmh", "run_id"]).reset_index(drop=True)
 
 
-def table_4_1_runs(index: pd.DataFrame) -> pd.DataFrame:
+def table_4_1_runs(index: pd.DataFrame, cadence_rpm: dict[int, float] | None = None
+                   ) -> pd.DataFrame:
     """The run of each Table 4.1 condition: same system, belt speed within the tolerance.
 
-    Columns ``system, speed_kmh, cadence_rpm`` (the table header) and ``run_id``; when several
-    runs match, the one with the closest speed (then the lowest number) is used.
+    Columns ``system, speed_kmh, cadence_rpm`` (the table header) and ``run_id``. When several
+    runs match (the data set has repeated speeds and runs in another gear), the one whose
+    detected cadence (``cadence_rpm``: run id -> rpm, when given) is closest to the header's is
+    used, then the closest speed, then the lowest run number.
     """
     v = validation_runs()
     tol = float(v["speed_match_tolerance_kmh"])
     rows = []
     for cond in v["table_4_1"]:
-        sel = select_system(index, cond["system"])
-        d = np.abs(sel.speed_kmh - float(cond["speed_kmh"]))
-        if sel.empty or d.min() > tol:
+        sel = select_system(index, cond["system"]).copy()
+        sel["dv"] = np.abs(sel.speed_kmh - float(cond["speed_kmh"]))
+        sel = sel[sel.dv <= tol]
+        if sel.empty:
+            avail = sorted(select_system(index, cond["system"]).speed_kmh.unique())
             raise KeyError(f"no {cond['system']} run at {cond['speed_kmh']} km/h (+-{tol}) in the "
-                           f"data set: available speeds {sorted(sel.speed_kmh.unique())}")
-        best = sel.loc[d == d.min()].iloc[0]
+                           f"data set: available speeds {avail}")
+        sel["dc"] = [abs(cadence_rpm[r] - float(cond["cadence_rpm"])) if cadence_rpm and
+                     r in cadence_rpm else 0.0 for r in sel.run_id]
+        best = sel.sort_values(["dc", "dv", "run_id"]).iloc[0]
         rows.append({"system": cond["system"], "speed_kmh": float(cond["speed_kmh"]),
                      "cadence_rpm": float(cond["cadence_rpm"]), "run_id": int(best.run_id)})
     return pd.DataFrame(rows)
