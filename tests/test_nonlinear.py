@@ -101,3 +101,23 @@ def test_moving_legs_mean_equals_rigid_rider():
     assert com[2] == pytest.approx(full["zB"], abs=1e-12)
     assert inertia[0, 0] == pytest.approx(full["IBxx"], rel=1e-12)
     assert inertia[0, 2] == pytest.approx(full["IBxz"], rel=1e-10)
+
+
+def test_leg_fourier_series_reproduces_the_four_bar():
+    """The prescribed leg motion (32-harmonic series) equals pedalrepro.legs at odd times."""
+    from pedalrepro import legs
+    from pedalrepro.nonlinear import parameters as nlp
+
+    w = 7.0
+    _, spec, _ = nlp.leg_bodies("CR", w)
+    geom = legs.leg_geometry("city", "O")
+    t = np.array([0.0123, 0.4567, 0.8])
+    motion = legs.leg_motion(geom, w, t)
+    lam = nlp.bicycle_rider("CR")["lam"]
+    s = np.array([spec(ti) for ti in t])
+    k = model.LEG_BODIES.index("shank_r")
+    # the shank angle in the rear frame is the four-bar pitch angle minus the steer-axis tilt
+    np.testing.assert_allclose(s[:, 3 * k + 2], motion.pitch_rad["shank"] - lam, atol=1e-9)
+    np.testing.assert_allclose(s[:, 18 + 3 * k + 2], motion.pitch_rate_rad_s["shank"], atol=1e-7)
+    np.testing.assert_allclose(s[:, 36 + 3 * k + 2], motion.pitch_acc_rad_s2["shank"], rtol=1e-6,
+                               atol=1e-5)

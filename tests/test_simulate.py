@@ -48,3 +48,30 @@ def test_harmonic_torque_matches_eq_3_14():
     roll = (2 + 1j) * 4 * np.exp(2j * t) + 0.5 * 36 * np.exp(6j * t)
     steer = 0.1j * 4 * np.exp(2j * t)
     assert f(t) == pytest.approx((roll.real, steer.real), rel=1e-12)
+
+
+def test_compiled_run_equals_solve_ivp_rk45():
+    """The compiled Dormand-Prince run reproduces solve_ivp(RK45) on the NT model, fall included."""
+    from pedalrepro import response
+    from pedalrepro.nonlinear import sweep
+    from pedalrepro.simulate import simulate_compiled
+
+    nl = sweep.nt_model("HR")
+    if nl._lib is None:
+        pytest.skip("no C compiler")
+    h = response.forcing("HR", None)
+    w = 6.0
+    ref = simulate(nl, 6.0, 20.0, 50.0, torque=harmonic_torque(h, w), rtol=1e-8, atol=1e-10)
+    fast = simulate_compiled(nl, 6.0, 20.0, 50.0, harmonics=h, omega_rad_s=w, rtol=1e-8,
+                             atol=1e-10)
+    assert not fast.fell
+    scale = np.max(np.abs(ref.roll_rad))
+    np.testing.assert_allclose(fast.roll_rad, ref.roll_rad, atol=1e-7 * scale)
+    falling = simulate_compiled(nl, 2.0, 20.0, 50.0, harmonics=h, omega_rad_s=w, rtol=1e-8,
+                                atol=1e-10, fall_roll_rad=1.0)
+    ref_fall = simulate(nl, 2.0, 20.0, 50.0, torque=harmonic_torque(h, w), rtol=1e-8,
+                        atol=1e-10, fall_roll_rad=1.0)
+    assert falling.fell and ref_fall.fell
+    assert falling.t_end_s == pytest.approx(ref_fall.t_end_s, abs=1e-6)
+    kept = falling.t_s <= falling.t_end_s
+    assert np.all(np.isfinite(falling.roll_rad[kept])) and np.all(np.isnan(falling.roll_rad[~kept]))

@@ -149,3 +149,84 @@ def simulate(
     t_end = float(sol.t_events[0][0]) if fell else float(t_s[-1])
     steer = states[2].copy() if len(x0) > 2 else np.full(n_t, np.nan)
     return Simulation(t_s, states[0].copy(), steer, states, fell, t_end, sol.nfev)
+
+
+def simulate_compiled(
+    model,
+    speed_m_s: float,
+    duration_s: float,
+    sample_rate_hz: float,
+    *,
+    harmonics=None,
+    omega_rad_s: float = 0.0,
+    x0: np.ndarray | None = None,
+    rtol: float = 1e-6,
+    atol: float = 1e-8,
+    fall_roll_rad: float = 1.0,
+) -> Simulation:
+    """:func:`simulate` with the whole run in compiled code (about 30 times faster).
+
+    The same Dormand-Prince 5(4) pair and error norm as ``solve_ivp(method="RK45")``; output
+    samples by cubic Hermite interpolation between steps; the fall event located by bisection.
+    The forcing is given as data (not Python callables): ``harmonics`` at ``omega_rad_s``
+    (Eq 3.14) and/or the model's prescribed leg motion (``model.spec``, a
+    :class:`pedalrepro.nonlinear.parameters.FourierSpec`).
+
+    Raises
+    ------
+    SimulationError
+        Non-finite state, step size underflow or a singular system.
+    """
+    import ctypes
+
+    lib = model._lib
+    if lib is None:
+        raise SimulationError("no compiled library for this model (no C compiler?)")
+    if duration_s <= 0 or sample_rate_hz <= 0:
+        raise ValueError("duration_s and sample_rate_hz must be positive")
+    n_t = int(round(duration_s * sample_rate_hz)) + 1
+    t_s = np.arange(n_t) / sample_rate_hz
+    x0 = model.upright_state(speed_m_s) if x0 is None else np.asarray(x0, dtype=float)
+    dp, ci, cd = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
+
+    class Forcing(ctypes.Structure):
+        _fields_ = [("n_harm", ci), ("harm_w", dp), ("roll_re", dp), ("roll_im", dp),
+                    ("steer_re", dp), ("steer_im", dp), ("n_spec", ci), ("n_four", ci),
+                    ("omega", cd), ("four_re", dp), ("four_im", dp), ("slope", dp), ("p", dp)]
+
+    keep = []  # arrays referenced by pointer must outlive the call
+
+    def ptr(a):
+        a = np.ascontiguousarray(a, dtype=float)
+        keep.append(a)
+        return a.ctypes.data
+
+    fc = Forcing()
+    if harmonics is not None and omega_rad_s > 0:
+        n = np.asarray(harmonics.n, dtype=float)
+        w = n * omega_rad_s
+        roll = np.asarray(harmonics.roll, dtype=complex) * w**2
+        steer = np.asarray(harmonics.steer, dtype=complex) * w**2
+        fc.n_harm = len(n)
+        fc.harm_w, fc.roll_re, fc.roll_im = ptr(w), ptr(roll.real), ptr(roll.imag)
+        fc.steer_re, fc.steer_im = ptr(steer.real), ptr(steer.imag)
+    if model.n_spec:
+        spec = model.spec
+        fc.n_spec, fc.n_four, fc.omega = model.n_spec, spec.coef.shape[1], spec.omega_rad_s
+        fc.four_re, fc.four_im = ptr(spec.coef.real), ptr(spec.coef.imag)
+        fc.slope = ptr(spec.slope)
+    fc.p = ptr(model._p_arr)
+    lib.integrate.argtypes = [ctypes.POINTER(Forcing), dp, dp, ci, cd, cd, cd, dp,
+                              ctypes.POINTER(cd), ctypes.POINTER(ctypes.c_long)]
+    lib.integrate.restype = ci
+    out = np.empty((6, n_t))
+    t_end, n_rhs = cd(0.0), ctypes.c_long(0)
+    status = lib.integrate(ctypes.byref(fc), ptr(x0), ptr(t_s), n_t, rtol, atol, fall_roll_rad,
+                           out.ctypes.data, ctypes.byref(t_end), ctypes.byref(n_rhs))
+    if status < 0:
+        why = {-1: "non-finite state or singular system", -2: "step size underflow",
+               -3: "too many steps"}[status]
+        raise SimulationError(f"compiled integration failed at speed {speed_m_s} m/s: {why}")
+    fell = status == 1
+    steer = out[2].copy()
+    return Simulation(t_s, out[0].copy(), steer, out, fell, float(t_end.value), int(n_rhs.value))

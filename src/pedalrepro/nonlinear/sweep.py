@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import spectral
-from ..simulate import Simulation, harmonic_torque, simulate
+from ..simulate import Simulation, harmonic_torque, simulate, simulate_compiled
 from . import model as _model
 from . import parameters as nlp
 from .numeric import NonlinearModel
@@ -58,16 +58,21 @@ def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,
     """One time solution; ``None`` at zero cadence (no forcing: the upright motion persists)."""
     if omega_rad_s <= 0:
         return None
-    kw = dict(rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
-              method=settings.method)
+    kw = dict(rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
+    if method not in METHODS:
+        raise ValueError(f"unknown non-linear method {method!r}: expected one of {METHODS}")
+    nl = (nt if nt is not None else nt_model(name)) if method == "NT" else np_model(
+        name, omega_rad_s)
+    if settings.method == "RK45" and nl._lib is not None:
+        # the same RK45 scheme, whole run compiled (pedalrepro.simulate.simulate_compiled)
+        return simulate_compiled(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
+                                 harmonics=harmonics if method == "NT" else None,
+                                 omega_rad_s=omega_rad_s, **kw)
+    kw["method"] = settings.method
     if method == "NT":
-        nl = nt if nt is not None else nt_model(name)
         return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
                         torque=harmonic_torque(harmonics, omega_rad_s), **kw)
-    if method == "NP":
-        return simulate(np_model(name, omega_rad_s), speed_m_s, settings.duration_s,
-                        settings.sample_rate_hz, **kw)
-    raise ValueError(f"unknown non-linear method {method!r}: expected one of {METHODS}")
+    return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz, **kw)
 
 
 def amplitudes(sim: Simulation | None, omega_rad_s: float, sample_rate_hz: float,
