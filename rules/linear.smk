@@ -2,6 +2,8 @@
 # eigen analysis, particular solution (PS), time solutions (LA analytic, LN numerical), RD maps,
 # Table 4.1 model columns, the report part and every linear figure.
 from pedalrepro.figures.linear import FIGURE_SPECS as LINEAR_FIGURE_SPECS
+from pedalrepro.figures.linear import FIGURE_GROUPS as LINEAR_FIGURE_GROUPS
+from pedalrepro.figures.linear import figure_group as linear_figure_group
 from pedalrepro.figures.linear import inputs_of as linear_figure_inputs
 
 LINEAR_MODELS = list(config["linear"]["models"])
@@ -36,36 +38,60 @@ rule linear_ps:
         code=pkg("linear", "response", "momentum", "disturbance", "legs"),
         parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
-        interm("ps/{model}.npz"),
-    wildcard_constraints:
-        model="|".join(LINEAR_MODELS),
+        npz=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
+    params:
+        models=LINEAR_MODELS,
     threads: 1
     log:
-        logfile("linear_ps_{model}"),
+        logfile("linear_ps"),
     benchmark:
-        bench("linear_ps_{model}")
+        bench("linear_ps")
     message:
-        "Particular solution of model {wildcards.model} on the PS grid (harmonics w, 3w, 5w)"
+        "Particular solution of {params.models} on the PS grid (harmonics w, 3w, 5w)"
     script:
         "scripts/linear_ps.py"
 
 
-rule linear_time:
+# LA is exact and vectorised (seconds per model on the thesis grid): one job for all models.
+rule linear_time_la:
     input:
         code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
         parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
-        interm("time/{method}_{model}.npz"),
+        npz=expand(interm("time/LA_{model}.npz"), model=LINEAR_TIME_MODELS),
+    params:
+        method="LA",
+        models=LINEAR_TIME_MODELS,
+    threads: 1
+    log:
+        logfile("linear_time_LA"),
+    benchmark:
+        bench("linear_time_LA")
+    message:
+        "Analytic time solutions (LA) of {params.models} on the time grid"
+    script:
+        "scripts/linear_time.py"
+
+
+# LN integrates every run (minutes per model on the thesis grid): one job per model.
+rule linear_time_ln:
+    input:
+        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
+        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+    output:
+        npz=interm("time/LN_{model}.npz"),
+    params:
+        method="LN",
+        models=lambda wc: [wc.model],
     wildcard_constraints:
-        method="LA|LN",
         model="|".join(LINEAR_TIME_MODELS),
     threads: 1
     log:
-        logfile("linear_time_{method}_{model}"),
+        logfile("linear_time_LN_{model}"),
     benchmark:
-        bench("linear_time_{method}_{model}")
+        bench("linear_time_LN_{model}")
     message:
-        "Time solutions ({wildcards.method}) of model {wildcards.model} on the time grid"
+        "Numerical time solutions (LN) of model {wildcards.model} on the time grid"
     script:
         "scripts/linear_time.py"
 
@@ -125,24 +151,30 @@ rule linear_report:
         "scripts/linear_report.py"
 
 
-rule linear_figure:
-    input:
-        code=pkg("linear", "response", "momentum", "evaluation", "gears", "spectral",
-                 "disturbance", "legs", "figures/__init__", "figures/linear"),
-        style=f"{PKG}/pedalrepro.mplstyle",
-        data=lambda wc: linear_figure_inputs(wc.fid, R, TIME_METHODS),
-    output:
-        png=figure("{fid}"),
-    params:
-        time_methods=lambda wc: list(TIME_METHODS),
-    wildcard_constraints:
-        fid="|".join(LINEAR_FIGURES),
-    log:
-        logfile("linear_{fid}"),
-    message:
-        "Linear-part figure {wildcards.fid}"
-    script:
-        "scripts/linear_figure.py"
+
+
+for _group in LINEAR_FIGURE_GROUPS:
+
+    rule:
+        name:
+            f"linear_figures_{_group}"
+        input:
+            code=pkg("linear", "response", "momentum", "evaluation", "gears", "spectral",
+                     "disturbance", "legs", "figures/__init__", "figures/linear"),
+            style=f"{PKG}/pedalrepro.mplstyle",
+            data=lambda wc, g=_group: sorted(
+                {p for f in linear_figure_group(g) for p in linear_figure_inputs(f, R, TIME_METHODS)}
+            ),
+        output:
+            png=[figure(f) for f in linear_figure_group(_group)],
+        params:
+            time_methods=lambda wc: list(TIME_METHODS),
+        log:
+            logfile(f"linear_figures_{_group}"),
+        message:
+            f"Linear-part figures, group {_group}"
+        script:
+            "scripts/linear_figure.py"
 
 
 REPORT_PARTS.append(f"{R}/tables/report/linear.csv")

@@ -77,6 +77,25 @@ NEEDS: dict[str, tuple[str, ...]] = {
 }
 
 
+#: Figure groups drawn by one Snakemake job each (start-up cost paid once per group).
+FIGURE_GROUPS: tuple[str, ...] = ("overview", "time", "rd")
+_TIME_KINDS = ("fig_ps_time", "fig_fft", "fig_series_time", "fig_series_fft")
+
+
+def figure_group(group: str) -> list[str]:
+    """Figure ids of a group: ``"time"`` (reads the time solutions of every method),
+    ``"rd"`` (evaluation points 1-3) or ``"overview"`` (everything else)."""
+    if group not in FIGURE_GROUPS:
+        raise ValueError(f"unknown figure group {group!r}: expected one of {FIGURE_GROUPS}")
+
+    def kind(func: str) -> str:
+        if func == "fig_rd_points":
+            return "rd"
+        return "time" if func in _TIME_KINDS else "overview"
+
+    return sorted(fid for fid, (func, _) in FIGURE_SPECS.items() if kind(func) == group)
+
+
 def spec_models(fid: str) -> tuple[str, ...]:
     """Models a figure draws."""
     kw = FIGURE_SPECS[fid][1]
