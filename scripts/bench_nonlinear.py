@@ -1,0 +1,79 @@
+"""Speed of the non-linear time solutions (Sec 3.1.2.1): one 180 s NP run and the full sweep.
+
+    python scripts/bench_nonlinear.py [--sample-stride 5]
+
+Measures (thesis profile: 180 s at 100 Hz, config/config.yaml tolerances):
+1. one 180 s NP run of HR at 6 m/s, 6 rad/s: compiled whole-run RK45 (the sweep's path), and
+   solve_ivp with the compiled right-hand side (the reference path), at the default and at the
+   thesis's SPACAR tolerances;
+2. the full NT + NP sweep (4 models x 676 points x 2 methods) with 2 workers, extrapolated from
+   runs on a sub-grid (every ``stride``-th speed and cadence) of the thesis grid for the models
+   that exist here (HR, CR), whose mean per-run time stands for HS and CF too.
+Nothing is written; the numbers are printed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from pedalrepro import config, response
+from pedalrepro.nonlinear import sweep
+from pedalrepro.simulate import SPACAR_ATOL, SPACAR_RTOL, simulate
+
+
+def timed(fn, *args, **kwargs):
+    start = time.perf_counter()
+    out = fn(*args, **kwargs)
+    return out, time.perf_counter() - start
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sample-stride", type=int, default=5)
+    args = ap.parse_args()
+    cfg = config.load()
+    settings = sweep.RunSettings.from_config(cfg)
+    spacar = sweep.RunSettings(settings.duration_s, settings.sample_rate_hz, SPACAR_RTOL,
+                               SPACAR_ATOL, settings.fall_roll_rad)
+    h = response.forcing("HR", cfg)
+    sweep.np_model("HR", 6.0)  # build/load the cached code outside the timings
+    print(f"thesis profile: {settings.duration_s:g} s at {settings.sample_rate_hz:g} Hz, "
+          f"rtol {settings.rtol:g}, atol {settings.atol:g}")
+    for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
+        sim, dt = timed(sweep.run, "NP", "HR", 6.0, 6.0, h, s)
+        print(f"one 180 s NP run (HR, 6 m/s, 6 rad/s), compiled RK45, {label}: {dt:.3f} s "
+              f"({sim.n_rhs} rhs calls, fell={sim.fell})")
+    nl = sweep.np_model("HR", 6.0)
+    sim, dt = timed(simulate, nl, 6.0, settings.duration_s, settings.sample_rate_hz,
+                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
+    print(f"same run with scipy solve_ivp(RK45) + compiled right-hand side: {dt:.2f} s "
+          f"({sim.n_rhs} rhs calls)")
+
+    v, w = response.time_grid(cfg)
+    # zero cadence needs no run (no forcing): sample and count only the forced points
+    w_forced = w[w > 0]
+    vs, ws = v[:: args.sample_stride], w_forced[:: args.sample_stride]
+    per_run = []
+    for name in cfg["nonlinear"]["models"]:
+        hm = response.forcing(name, cfg)
+        for method in sweep.METHODS:
+            out, dt = timed(sweep.grid_runs, method, name, vs, ws, hm, settings)
+            n = vs.size * ws.size
+            per_run.append(dt / n)
+            print(f"{method} {name}: {n} sampled runs in {dt:.1f} s ({dt / n:.3f} s/run, "
+                  f"{int(out['fell'].sum())} fell)")
+    mean = float(np.mean(per_run))
+    n_full = 4 * v.size * w_forced.size * 2
+    n_here = len(cfg["nonlinear"]["models"]) * v.size * w_forced.size * 2
+    print(f"mean time per run on the sub-grid: {mean:.3f} s")
+    print(f"full NT + NP sweep, 4 models x {v.size * w.size} x 2 ({n_full} forced runs), "
+          "2 workers: "
+          f"~{mean * n_full / 2 / 60:.1f} min (the {n_here} runs of the models built here: "
+          f"~{mean * n_here / 2 / 60:.1f} min)")
+
+
+if __name__ == "__main__":
+    main()
