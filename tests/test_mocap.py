@@ -74,7 +74,7 @@ def test_extracted_angles_match_ground_truth(stand_in):
             err = _rms(getattr(a.kin, f"{name}_rad"), truth[f"{name}_rad"])
             worst[name] = max(worst[name], err)
         crank_err = _rms(_wrap(a.kin.crank_rad - truth["crank_rad"]), 0.0)
-        assert crank_err < 0.02, run_id
+        assert crank_err < 2e-3, run_id
         rel = abs(a.cadence.cadence_rpm / r.cadence_rpm - 1)
         worst["cadence"] = max(worst["cadence"], rel)
         assert abs(a.cadence.cadence_crank_rpm / r.cadence_rpm - 1) < 0.005
@@ -430,3 +430,21 @@ def test_table_4_1_selection_prefers_the_header_cadence():
     # without cadences: the closest speed
     sel = runs.table_4_1_runs(index)
     assert sel.loc[(sel.system == "HR") & (sel.speed_kmh == 25.0), "run_id"].item() == 3042
+
+
+def test_marker_spikes_are_rejected(stand_in, tmp_path):
+    # 5 cm jumps of one handlebar and one seat-stay marker in 60 frames (camera glitches): the
+    # robust fit drops them and the angles stay within the ground-truth tolerance.
+    out, truths = stand_in
+    run_id, (r, truth, _) = next(iter(truths.items()))
+    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
+            if not k.startswith("__")}
+    frames = np.random.default_rng(3).choice(6000, 60, replace=False)
+    for v in ("x", "xori"):
+        data[v][frames, 22] += 0.05  # marker 23
+        data[v][frames, 23] -= 0.05  # marker 24
+    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
+    a = runs.analyse_run(tmp_path / f"{run_id:04d}.mat")
+    assert any("spikes" in n for n in a.kin.notes)
+    assert _rms(a.kin.steer_rad, truth["steer_rad"]) < 1e-3
+    assert _rms(a.kin.roll_rad, truth["roll_rad"]) < 1e-3
