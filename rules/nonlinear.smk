@@ -35,16 +35,18 @@ rule nonlinear_linearisation:
         code=NONLINEAR_CODE,
         codegen=interm("nonlinear/codegen.txt"),
         parameters=NONLINEAR_PARAMETERS + ["data/parameters/appendix_b.yaml"],
+        meijaard="data/published/meijaard2007.yaml",
     output:
         benchmark=table("benchmark_linearisation"),
         appendix_b=table("linearisation_vs_appendix_b"),
+        checks=table("nonlinear_checks"),
         own=interm("nonlinear/linearisation_own.npz"),
     params:
         models=NONLINEAR_MODELS,
     log:
         logfile("nonlinear_linearisation"),
     message:
-        "Linearising the non-linear benchmark and {params.models} models at upright motion"
+        "Linearising the non-linear benchmark and {params.models} models; energy check"
     script:
         "scripts/nonlinear_linearisation.py"
 
@@ -137,6 +139,7 @@ REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
 BOOK_INPUTS.extend([
     table("benchmark_linearisation"),
     table("linearisation_vs_appendix_b"),
+    table("nonlinear_checks"),
     interm("nonlinear/rd_maps.npz"),
     figure("fig_3_34"),
     figure("nonlinear_linearisation_vs_appendix_b"),

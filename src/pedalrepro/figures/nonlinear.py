@@ -34,7 +34,9 @@ def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
             mesh = ax.pcolormesh(w, v, shown, norm=norm, cmap="viridis", shading="nearest")
             stable = np.asarray(maps[f"{name}_stable"], bool)
             if stable.any():
-                ax.axhspan(v[stable].min(), v[stable].max(), fill=False, ls="--", ec="w", lw=1.2)
+                half = 0.5 * (v[1] - v[0]) if v.size > 1 else 0.1
+                ax.axhspan(v[stable].min() - half, v[stable].max() + half, fill=False, ls="--",
+                           ec="w", lw=1.2)
             ax.set_title(f"{name}: {dof}")
             if i == 1:
                 ax.set_xlabel(r"cadence $\omega$ (rad/s)")
@@ -54,4 +56,24 @@ def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
     ax.set_ylabel("|project - App. B| / |App. B| (%)")
     ax.legend()
+    return fig
+
+
+def example_runs(nt: Mapping[str, np.ndarray], np_: Mapping[str, np.ndarray],
+                 model: str = "") -> plt.Figure:
+    """Roll angle of the six example runs: NT (legs fixed + torques) against NP (moving legs).
+
+    ``nt``, ``np_``: the ``results/intermediate/time/<method>_<model>.npz`` contents.
+    """
+    t = np.asarray(nt["example_t_s"])
+    fig, axes = plt.subplots(3, 2, figsize=(9, 6.5), sharex=True)
+    for k, ax in enumerate(axes.T.ravel()):
+        ax.plot(t, np.degrees(nt["example_roll_rad"][k]), lw=0.9, label="NT")
+        ax.plot(t, np.degrees(np_["example_roll_rad"][k]), lw=0.9, ls="--", label="NP")
+        ax.set_title(f"{model} point {k + 1}: v = {nt['example_speed_m_s'][k]:.1f} m/s, "
+                     rf"$\omega$ = {nt['example_omega_rad_s'][k]:.1f} rad/s", fontsize=8)
+        ax.set_ylabel("roll (deg)")
+    for ax in axes[-1]:
+        ax.set_xlabel("time (s)")
+    axes[0, 0].legend()
     return fig
