@@ -152,7 +152,9 @@ for point, text, region in (("2b", "dropping", "self-stable"), ("3b", "DFT", "se
             if row is None:
                 continue
             range_claim(f"RD {point} {m} {coord}", c["section"], lo, hi, row,
-                        f"over the {region} region of the time grid")
+                        f"over the {region} region of the time grid; profile "
+                        f"{cfg['profile']}: {lin['duration_s']:g} s runs at "
+                        f"{lin['sample_rate_hz']:g} Hz (the RD shrinks with the run length)")
 c = claim("3.2.4 3a", "numerical")
 for m in ("HS", "CF", "HR", "CR"):
     for coord in ("roll", "steer"):
@@ -165,8 +167,8 @@ for m in ("HS", "CF", "HR", "CR"):
                       f"median {val:.3g} (range {row['min_percent']:.3g}-"
                       f"{row['max_percent']:.3g}) %", "same order of magnitude (x/10 .. x10)",
                       report.REPRODUCED if ok else report.DIFFERS,
-                      f"ode45-like RK45, rtol {lin['rtol']:g}, atol {lin['atol']:g}; "
-                      f"{lin['duration_s']:g} s runs"))
+                      f"ode45-like RK45, rtol {lin['rtol']:g}, atol {lin['atol']:g}; profile "
+                      f"{cfg['profile']}: {lin['duration_s']:g} s runs"))
 c = claim("3.2.4 1c", "conservation")
 lo, hi = c["value_percent"]
 for m in ("HS", "CF", "HR", "CR"):

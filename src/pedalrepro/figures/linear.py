@@ -28,6 +28,8 @@ METHOD_LABEL = {"LA": "LA linear analytic", "LN": "LN linear numerical",
 MODELS4 = ("HS", "CF", "HR", "CR")
 AMP_LEVELS = np.linspace(0.0, 0.04, 9)
 RD_LEVELS = np.array([1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1, 2.5, 5, 10, 25, 50, 100, 1e3, 1e6])
+#: Linear RD levels (percent) for the parameter comparisons of evaluation points 4-6.
+RD_LEVELS_PERCENT = np.array([0, 5, 10, 25, 50, 75, 100, 150, 200])
 
 # --------------------------------------------------------------------------------------------
 # figure id -> (function name, keyword arguments). Used by rules/linear.smk and the notebooks.
@@ -509,9 +511,13 @@ def fig_benchmark_ps(ps: Arrays, eig: Arrays) -> Figure:
     return fig
 
 
-def _rd_map(ax, v, w, rd, eig=None, title=""):
-    cs = ax.contourf(v, w, np.clip(rd, 1e-10, 1e6).T, levels=RD_LEVELS,
-                     norm=plt.matplotlib.colors.LogNorm(1e-10, 1e6), cmap="magma", extend="both")
+def _rd_map(ax, v, w, rd, eig=None, title="", log: bool = True):
+    if log:
+        cs = ax.contourf(v, w, np.clip(rd, 1e-10, 1e6).T, levels=RD_LEVELS,
+                         norm=plt.matplotlib.colors.LogNorm(1e-10, 1e6), cmap="magma",
+                         extend="both")
+    else:
+        cs = ax.contourf(v, w, rd.T, levels=RD_LEVELS_PERCENT, cmap="magma_r", extend="max")
     _decorate(ax, eig, w.max())
     ax.set_title(title, fontsize=8)
     return cs
@@ -526,7 +532,7 @@ def fig_rd_reference(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
         for row, coord in enumerate(("roll", "steer")):
             d = rd[m]
             cs = _rd_map(axes[row, col], d["speed_m_s"], d["omega_rad_s"], d[f"4_{coord}"],
-                         eigen.get(m), f"{m} {coord}: RD vs 60 rpm, 5 m/s")
+                         eigen.get(m), f"{m} {coord}: RD vs 60 rpm, 5 m/s", log=False)
     for ax in axes[-1]:
         ax.set_xlabel("v (m/s)")
     for ax in axes[:, 0]:
@@ -545,7 +551,11 @@ def fig_rd_models(pairs: Arrays) -> Figure:
             key = f"{p}_{a}_vs_{b}_{coord}"
             if key in pairs:
                 cs = _rd_map(axes[row, col], v, w, pairs[key], None,
-                             f"point {p}: {a} vs {b}, {coord}")
+                             f"point {p}: {a} vs {b}, {coord}", log=False)
+    for ax in axes[-1]:
+        ax.set_xlabel("v (m/s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("$\\omega$ (rad/s)")
     fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.8)
     return fig
 
