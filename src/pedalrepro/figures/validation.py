@@ -46,11 +46,14 @@ class PSMap:
     steer_amp_rad: np.ndarray
 
 
-def _contour(ax, ps: PSMap, which: str, runs: Sequence[tuple[float, float]] | None = None,
-             levels: int = 12):
+#: Contour levels of log10 amplitude (rad), shared by every map so colours compare.
+LEVELS = np.linspace(-4.0, -0.5, 15)
+
+
+def _contour(ax, ps: PSMap, which: str, runs: Sequence[tuple[float, float]] | None = None):
     amp = ps.roll_amp_rad if which == "roll" else ps.steer_amp_rad
-    amp = np.clip(amp, 1e-4, None)
-    cs = ax.contourf(ps.speed_m_s, ps.omega_rad_s, np.log10(amp).T, levels=levels,
+    amp = np.clip(amp, 10 ** LEVELS[0], 10 ** LEVELS[-1])
+    cs = ax.contourf(ps.speed_m_s, ps.omega_rad_s, np.log10(amp).T, levels=LEVELS,
                      cmap="viridis")
     ax.set_xlabel("forward speed v (m/s)")
     ax.set_ylabel("cadence $\\omega$ (rad/s)")
@@ -92,7 +95,7 @@ def time_series(system: str, examples: Sequence[ExampleRun], ps: PSMap,
             if i == 0 and j == 0:
                 a.legend(fontsize=6, loc="upper right")
             a.set_title(f"{e.speed_kmh:g} km/h, {e.cadence_rpm:.0f} rpm", fontsize=7)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
 
@@ -126,7 +129,7 @@ def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
                 a.set_xlabel("frequency (Hz)")
             if i == 0 and j == 0:
                 a.legend(fontsize=6, loc="upper right")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
 
@@ -136,7 +139,7 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
     """Fig 4.10: every run as a circle on the particular-solution map of its system; fill =
     measured amplitude, edge = model / measured ratio."""
     systems = list(maps)
-    fig, axes = plt.subplots(2, len(systems), figsize=(3.0 * len(systems), 6.0),
+    fig, axes = plt.subplots(2, len(systems), figsize=(3.4 * len(systems), 6.0),
                              squeeze=False, sharex=True, sharey=True)
     norm = plt.Normalize(-3, -1)
     rnorm = plt.Normalize(-1, 1)
@@ -151,12 +154,15 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
                             edgecolors=plt.cm.coolwarm(rnorm(np.log10(
                                 sub[f"{q}_model_rad"] / sub[f"{q}_measured_rad"]))))
             ax.set_title(f"{system} {q}", fontsize=9)
-            if i == 0:
-                ax.set_xlabel("")
+            ax.set_xlabel("")
             if j:
                 ax.set_ylabel("")
-    fig.colorbar(sc, ax=axes, label="log$_{10}$ measured amplitude (rad)", shrink=0.6)
-    fig.colorbar(plt.cm.ScalarMappable(rnorm, "coolwarm"), ax=axes, shrink=0.6,
+    fig.supxlabel("forward speed v (m/s)", fontsize=9)
+    fig.colorbar(plt.cm.ScalarMappable(plt.Normalize(LEVELS[0], LEVELS[-1]), "viridis"),
+                 ax=axes, shrink=0.6, pad=0.01, label="map: log$_{10}$ model amplitude (rad)")
+    fig.colorbar(sc, ax=axes, label="fill: log$_{10}$ measured amplitude (rad)", shrink=0.6,
+                 pad=0.01)
+    fig.colorbar(plt.cm.ScalarMappable(rnorm, "coolwarm"), ax=axes, shrink=0.6, pad=0.01,
                  label="edge: log$_{10}$(model / measured)")
     _stamp(fig, synthetic_reason)
     return fig
@@ -173,6 +179,6 @@ def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "") -> Figure:
         ax.set_title(f"{q}: RD model vs measurement")
     axes[0].set_ylabel("RD (%)")
     axes[1].legend(fontsize=7)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
