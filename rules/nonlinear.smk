@@ -100,6 +100,7 @@ rule nonlinear_report:
     input:
         code=NONLINEAR_CODE + pkg("report"),
         benchmark=table("benchmark_linearisation"),
+        appendix_b=table("linearisation_vs_appendix_b"),
         own=interm("nonlinear/linearisation_own.npz"),
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
               for method in ("NT", "NP")],
