@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pedalrepro import evaluation, gears
+from pedalrepro import evaluation, gears, spectral
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 lin = snakemake.config["linear"]
@@ -64,6 +64,21 @@ for m, path in zip(models, snakemake.output.maps, strict=True):
         for point in ("2b", "3a", "3b"):
             summary(m, point, coord, "self-stable", out[f"{point}_{coord}"], stable_t)
         summary(m, "4", coord, "normal cycling", out[f"4_{coord}"], ellipse)
+    # 3a with tight tolerances, at the six example points that did not fall (LN converges to LA)
+    fs = float(a["sample_rate_hz"])
+    ok = ~np.asarray(a["example_fell"]) & (np.asarray(a["example_omega_rad_s"]) > 0)
+    for coord in ("roll", "steer"):
+        amps = {}
+        for key, d in (("LA", a[f"example_{coord}_rad"]), ("LN", n[f"example_{coord}_rad"]),
+                       ("LN_tight", n[f"example_{coord}_tight_rad"])):
+            amps[key] = np.array([spectral.amplitude_at(x[np.isfinite(x)], fs, wk / (2 * np.pi))
+                                  if good else np.nan
+                                  for x, wk, good in zip(d, a["example_omega_rad_s"], ok,
+                                                         strict=True)])
+        summary(m, "3a", coord, "example points, thesis tolerances",
+                evaluation.relative_difference(amps["LA"], amps["LN"]), ok)
+        summary(m, "3a", coord, "example points, tight tolerances",
+                evaluation.relative_difference(amps["LA"], amps["LN_tight"]), ok)
     np.savez(path, **out)
 
 # evaluation points 5 and 6: model pairs on the PS grid
