@@ -90,8 +90,8 @@ def task_of(condition: str, rider: int, trial: int) -> str:
 
     Only ``'nohands'`` and ``'static'`` are attested in the public sources; the other strings are
     matched on substrings (``tow``, ``line``, ``pedal``/``normal``) and, failing that, on the
-    trial numbers of rider 3 (``percentageplot.m``, ``lateral.py``: Browser 051 static,
-    052-066 pedalling, 067-081 towing, 082-088 no-hands; Stratos 001 static, 002-016 pedalling).
+    trial numbers of rider 3 (``validation_runs.yaml`` ``task_by_trial``, from
+    ``percentageplot.m`` and ``lateral.py``).
     """
     c = condition.lower().replace(" ", "").replace("-", "").replace("_", "")
     for key, task in (("static", "static"), ("nohand", "nohands"), ("handsfree", "nohands"),
@@ -99,16 +99,27 @@ def task_of(condition: str, rider: int, trial: int) -> str:
                       ("normal", "pedalling")):
         if key in c:
             return task
-    if trial in (1, 51):
+    runs = _runs_table()
+    if trial in runs["static_trials"].values():
         return "static"
-    if rider == 3:
-        if 2 <= trial <= 16 or 52 <= trial <= 66:
-            return "pedalling"
-        if 67 <= trial <= 81:
-            return "towing"
-        if 82 <= trial <= 88:
-            return "nohands"
+    if rider == int(runs_rider()):
+        for task, ranges in runs["task_by_trial"].items():
+            if any(lo <= trial <= hi for lo, hi in ranges):
+                return task
     return "unknown"
+
+
+def _runs_table() -> dict:
+    from .. import params, paths
+
+    return params.read_yaml(paths.PARAMETERS / "validation_runs.yaml")["runs"]
+
+
+def runs_rider() -> int:
+    """The rider of the thesis's runs (``validation_runs.yaml``: rider 3)."""
+    from .. import params, paths
+
+    return int(params.read_yaml(paths.PARAMETERS / "validation_runs.yaml")["rider"])
 
 
 @dataclass
@@ -303,8 +314,9 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
         notes.append("no condition: task from the run number")
     bike = _string(data["bike"], "bike", path).lower() if "bike" in data else ""
     if bike not in BICYCLES:
-        if trial in (1, 51) and not bike:
-            bike = "stratos" if trial == 1 else "browser"
+        static = {int(t): b for b, t in _runs_table()["static_trials"].items()}
+        if trial in static and not bike:
+            bike = static[trial]
             notes.append("no bike: static run bicycle from the trial number")
         else:
             raise MocapFileError(f"{path}: bike {bike!r} is not one of {sorted(BICYCLES)}")
