@@ -33,7 +33,7 @@ pd.DataFrame(rows(bench), columns=["matrix", "i", "j", "value"]).to_csv(
 
 records, own = [], {"benchmark": bench}
 for name in snakemake.params.models:
-    mats = benchmark_matrices(NonlinearModel(nlp.bicycle_rider(name)))
+    mats = benchmark_matrices(NonlinearModel(nlp.legs_fixed(name)))
     own[name] = mats
     ab = params.appendix_b_model(name)
     for k, i, j, value in rows(mats):

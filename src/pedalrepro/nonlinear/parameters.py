@@ -120,7 +120,7 @@ def bicycle_rider(model: str) -> dict[str, float]:
     if a["add_cranks"]:
         bb = s["bottom_bracket"][spec["bicycle"]]
         a_pt = np.array([np.sqrt(bb["lcs"] ** 2 - (both["rR"] - bb["hbb"]) ** 2), 0.0, -bb["hbb"]])
-        _, _, mean = _leg_revolution(geom, a_pt, both["lam"], both["rR"], 2 * np.pi, 256)
+        _, _, mean, _ = _leg_revolution(geom, a_pt, both["lam"], both["rR"], 2 * np.pi, 256)
         parts += [p for name, p in zip(_model.LEG_BODIES, mean, strict=True)
                   if name.startswith("crank")]
     return _set_body_b(out, *_combine(parts))
@@ -164,8 +164,8 @@ def leg_bodies(model: str, cadence_rad_s: float, samples: int = 256):
     geom = legs.leg_geometry(s["models"][model]["legs"], s["assumptions"]["leg_com_model"])
     bench = bicycle_rider(model)
     omega = float(cadence_rad_s)
-    leg_params, signals, mean_parts = _leg_revolution(geom, bottom_bracket_m(model), bench["lam"],
-                                                      bench["rR"], omega, samples)
+    leg_params, signals, mean_parts, _ = _leg_revolution(
+        geom, bottom_bracket_m(model), bench["lam"], bench["rR"], omega, samples)
     # Fourier series x(t) = sum_n Re(c_n e^{i n w t}); the crank angles also turn at -omega.
     slope = np.zeros(signals.shape[0])
     slope[[3 * k + 2 for k, n in enumerate(_model.LEG_BODIES) if n.startswith("crank")]] = -omega
@@ -181,8 +181,9 @@ def leg_bodies(model: str, cadence_rad_s: float, samples: int = 256):
 
 
 def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
-    """Leg body parameters, rear-frame signals (18 x samples) over one revolution, and the
-    revolution-averaged (mass, com, central inertia) of each body in the benchmark frame."""
+    """Leg body parameters, rear-frame signals (18 x samples) over one revolution, the
+    revolution-averaged (mass, com, central inertia) of each body in the benchmark frame, and the
+    same at ``t = 0`` (crank horizontal, right foot forward)."""
     half = geom.hip_width_m / 2.0
     lateral = {"crank": half / 2.0, "shank": half, "thigh": half}
     masses = legs.segment_masses_kg(geom)
@@ -190,7 +191,7 @@ def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
     t = 2 * np.pi / omega * np.arange(samples) / samples
     leg_params: dict[str, float] = {}
     rows = []  # per body: x_frame, z_frame, th_frame over one revolution
-    mean_parts = []
+    mean_parts, frozen_parts = [], []
     for name in _model.LEG_BODIES:
         seg, side = name.split("_")
         motion = legs.leg_motion(geom, omega, t, left=side == "l")
@@ -220,7 +221,10 @@ def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
         # spread of the COM path adds m (|r|^2 I - r r^T) averaged
         i_c = i_c + m * (np.trace(spread) * np.eye(3) - spread)
         mean_parts.append((m, com, i_c))
-    return leg_params, np.array(rows), mean_parts
+        e0 = np.array([np.cos(th[0]), 0.0, -np.sin(th[0])])
+        frozen_parts.append((m, np.array([xz[0, 0], y, xz[0, 1]]),
+                             i_perp * (np.eye(3) - np.outer(e0, e0))))
+    return leg_params, np.array(rows), mean_parts, frozen_parts
 
 
 def without_legs(model: str, mean_parts) -> dict[str, float]:
@@ -234,3 +238,23 @@ def without_legs(model: str, mean_parts) -> dict[str, float]:
     com_rest = (m * com - m_l * com_l) / m_rest
     i_rest = inertia - i_l - _parallel(m_l, com_l - com) - _parallel(m_rest, com_rest - com)
     return _set_body_b(bench, m_rest, com_rest, i_rest)
+
+
+def legs_fixed(model: str) -> dict[str, float]:
+    """Benchmark parameters of the NT model: the legs fixed to the frame at crank angle 0.
+
+    Thesis Sec 3.1.1.3: the models are linearised (and NT keeps the legs fixed) with the crank
+    horizontal, right foot forward (``theta_A = 0``). Body B = :func:`bicycle_rider` with the
+    revolution-averaged leg bodies replaced by the same bodies frozen at ``t = 0``, so that NP's
+    time average and NT differ exactly by this choice of leg configuration (evaluation
+    points 1a/2a: the simplified mass distribution).
+    """
+    if model == "benchmark":
+        return bicycle_rider(model)
+    s = settings()
+    geom = legs.leg_geometry(s["models"][model]["legs"], s["assumptions"]["leg_com_model"])
+    bench = bicycle_rider(model)
+    _, _, mean, frozen = _leg_revolution(geom, bottom_bracket_m(model), bench["lam"],
+                                         bench["rR"], 2.0 * np.pi, 256)
+    rest = without_legs(model, mean)
+    return _set_body_b(rest, *_combine([_body_b(rest)] + list(frozen)))

@@ -42,8 +42,8 @@ class RunSettings:
 
 
 def nt_model(name: str) -> NonlinearModel:
-    """The NT model: rigid rider with the legs lumped into body B."""
-    return NonlinearModel(nlp.bicycle_rider(name))
+    """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3)."""
+    return NonlinearModel(nlp.legs_fixed(name))
 
 
 def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
