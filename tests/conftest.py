@@ -33,10 +33,23 @@ def quick_workflow():
     from pedalrepro import paths
 
     default = paths.ROOT / "results" / "pytest_quick"
-    results = Path(os.environ.get("PEDALREPRO_TEST_RESULTS", default))
+    results = Path(os.environ.get("PEDALREPRO_TEST_RESULTS", default)).resolve()
+    results.parent.mkdir(parents=True, exist_ok=True)
+    # Another pytest session using the same folder (several people in one checkout)? Then use a
+    # folder of our own instead of wiping theirs.
+    lock = results.parent / f"{results.name}.pid"
+    try:
+        other = int(lock.read_text())
+        os.kill(other, 0)
+        in_use = other != os.getpid()
+    except (OSError, ValueError):
+        in_use = False
+    if in_use:
+        results = results.parent / f"{results.name}_{os.getpid()}"
+        lock = results.parent / f"{results.name}.pid"
+    lock.write_text(str(os.getpid()))
     if results.exists() and os.environ.get("PEDALREPRO_TEST_KEEP_RESULTS") != "1":
         shutil.rmtree(results)
-    results.parent.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ)
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
     env.pop("PEDALREPRO_RESULTS", None)
