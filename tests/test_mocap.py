@@ -267,6 +267,9 @@ def test_corrupt_truncated_and_malformed_files(stand_in, tmp_path):
     scipy.io.savemat(str(bad), {k: v for k, v in data.items() if k != "V"})
     with pytest.raises(reader.MocapFileError, match="belt speed V"):
         reader.read_run(bad)
+    scipy.io.savemat(str(bad), {**data, "V": "fast"})
+    with pytest.raises(reader.MocapFileError, match="not a number"):
+        reader.read_run(bad)
 
 
 def test_unknown_run_numbers(stand_in):
@@ -448,3 +451,17 @@ def test_marker_spikes_are_rejected(stand_in, tmp_path):
     assert any("spikes" in n for n in a.kin.notes)
     assert _rms(a.kin.steer_rad, truth["steer_rad"]) < 1e-3
     assert _rms(a.kin.roll_rad, truth["roll_rad"]) < 1e-3
+
+
+def test_raw_arrays_in_millimetres_are_detected_separately(stand_in, tmp_path):
+    out, truths = stand_in
+    run_id = next(iter(truths))
+    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
+            if not k.startswith("__")}
+    ref = reader.read_run(out / f"{run_id:04d}.mat")
+    for v in ("xori", "yori", "zori"):
+        data[v] = data[v] * 1000.0  # raw in mm, repaired in m
+    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
+    run = reader.read_run(tmp_path / f"{run_id:04d}.mat")
+    assert any(n.startswith("xori, yori, zori: millimetres") for n in run.notes)
+    assert np.allclose(run.raw_m, ref.raw_m, equal_nan=True, rtol=1e-12, atol=1e-12)

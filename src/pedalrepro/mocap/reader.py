@@ -298,13 +298,15 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
     if n_sent or n_sent_raw:
         notes.append(f"{n_sent + n_sent_raw} sentinel values (|v| > {SENTINEL:g}) -> NaN")
 
-    heights = xyz[:, [marker_index(m) for m in WHEEL_CENTRE_MARKERS], 2]
-    if np.all(np.isnan(heights)):
+    wheels = [marker_index(m) for m in WHEEL_CENTRE_MARKERS]
+    if np.all(np.isnan(xyz[:, wheels, 2])):
         raise MocapFileError(f"{path}: no wheel-centre marker (21, 25, 27, 31) is ever visible")
-    if np.nanmedian(heights) > MM_THRESHOLD:
-        xyz /= 1000.0
-        raw /= 1000.0
-        notes.append("millimetres -> metres (wheel-centre height)")
+    # units per array (the repaired and the raw arrays are checked separately)
+    for name, arr in (("x, y, z", xyz), ("xori, yori, zori", raw)):
+        h = arr[:, wheels, 2]
+        if np.any(np.isfinite(h)) and np.nanmedian(h) > MM_THRESHOLD:
+            arr /= 1000.0
+            notes.append(f"{name}: millimetres -> metres (wheel-centre height)")
     xyz *= M_TO_N
     raw *= M_TO_N
 
@@ -321,7 +323,12 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
         else:
             raise MocapFileError(f"{path}: bike {bike!r} is not one of {sorted(BICYCLES)}")
     if "V" in data:
-        speed = float(np.asarray(data["V"], dtype=float).ravel()[0])
+        try:
+            speed = float(np.asarray(data["V"], dtype=float).ravel()[0])
+        except (ValueError, TypeError, IndexError) as exc:
+            raise MocapFileError(f"{path}: belt speed V is not a number: {data['V']!r}") from exc
+        if not np.isfinite(speed) or speed < 0:
+            raise MocapFileError(f"{path}: belt speed V = {speed} km/h")
     elif task == "static":
         speed = float("nan")
     else:
