@@ -312,6 +312,8 @@ def fig_series_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: 
 
 def _spectrum_panel(ax, d: Arrays, key: str, k: int, fs: float, style: dict, label: str,
                     windowed: bool = True) -> None:
+    if key not in d:  # e.g. a method file without the one-speed series of Fig 3.28/3.29
+        return
     x = d[key][k]
     x = x[np.isfinite(x)]
     if len(x) < 8:
