@@ -15,11 +15,17 @@ from pedalrepro.mocap import runs
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 source = json.loads(open(snakemake.input.source).read())
 index = runs.index_runs(snakemake.input.runs)
-index = index[(index.system != "") & (index.speed_kmh > 0)]
-rows, series = [], {}
+rider = int(runs.validation_runs()["rider"])  # the thesis's rider (rider 1's data is corrupt)
+index = index[(index.system != "") & (index.speed_kmh > 0) & (index.rider == rider)]
+rows, series, failed = [], {}, []
 for _, meta in index.iterrows():
-    a = runs.analyse_run(meta.file, lowpass_hz=snakemake.params.lowpass_hz or None)
     rid = int(meta.run_id)
+    try:
+        a = runs.analyse_run(meta.file, lowpass_hz=snakemake.params.lowpass_hz or None)
+    except (ValueError, OSError) as exc:  # a damaged run is reported, the others go on
+        failed.append(rid)
+        print(f"RUN {rid} NOT USED: {exc}", file=sys.stderr)
+        continue
     rows.append({
         "run_id": rid, "rider": int(meta.rider), "system": meta.system,
         "bicycle": a.run.bicycle, "task": a.run.task, "speed_kmh": a.run.speed_kmh,
@@ -43,6 +49,8 @@ for _, meta in index.iterrows():
         series[f"{rid}_{name}"] = getattr(a.kin, name)
     print(rid, meta.system, a.run.speed_kmh, f"{a.cadence.cadence_rpm:.2f} rpm",
           *a.kin.notes, file=sys.stderr)
+if failed:
+    print(f"{len(failed)} runs not used (see above): {failed}", file=sys.stderr)
 df = pd.DataFrame(rows)
 if df.empty:
     raise ValueError("no run of the systems HS, CF, HR, CR found")
