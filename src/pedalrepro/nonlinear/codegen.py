@@ -204,10 +204,11 @@ def compiled_library(options: _model.ModelOptions) -> Path | None:
         return None
     sym = _derive_cached(options)
     folder.mkdir(parents=True, exist_ok=True)
-    c_file = folder / f"{cache_key(options)}.c"
+    c_file = folder / f"{cache_key(options)}.{os.getpid()}.c"  # per process: no torn reads
     c_file.write_text(_c_source(sym))
     tmp = so.with_suffix(f".tmp{os.getpid()}.so")
     subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file), "-lm"],
                    check=True, capture_output=True)
     tmp.replace(so)
+    c_file.replace(folder / f"{cache_key(options)}.c")  # kept beside the library for reading
     return so
