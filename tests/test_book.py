@@ -199,3 +199,19 @@ def test_a_failing_notebook_cell_fails_the_book_rule(tmp_path):
     # the failed build leaves no book behind, and its log names the cause
     assert not (tmp_path / "bad/repo/results/book/_build/html/index.html").exists()
     assert "deliberately broken cell" in (tmp_path / "bad/repo/results/logs/book.log").read_text()
+
+
+def test_glued_numpy_scalars_are_plain_numbers():
+    """Importing pedalrepro.figures in a kernel makes glue store ``3.1536``, not
+    ``np.float64(3.1536)`` (which {glue:text} formatting cannot parse: a strict-build failure)."""
+    from nbclient import NotebookClient
+
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(
+        "import numpy as np\nfrom myst_nb import glue\nfrom pedalrepro import figures\n"
+        "glue('a', np.float64(3.1536), display=False)\n"
+        "glue('b', np.int64(7), display=False)\nnp.float32(0.5)")])
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    NotebookClient(nb, timeout=60).execute()
+    texts = [next(iter(o["data"].values())) for o in nb.cells[0].outputs]
+    assert texts == ["3.1536", "7", "0.5"]

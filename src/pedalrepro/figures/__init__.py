@@ -131,3 +131,33 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
         bundle["text/html"] = figure_html(figure_id, png, caption=caption)
         bundle["image/png"] = base64.b64encode(png).decode("ascii")
     display(bundle, raw=True)
+
+
+def plain_numbers_in_notebooks() -> bool:
+    """Show numpy scalars as plain numbers (``3.15``, not ``np.float64(3.15)``) in IPython.
+
+    numpy 2 changed the repr of its scalars; myst-nb's ``glue`` stores that repr as text/plain, and
+    ``{glue:text}`x:.2f``` then cannot parse it (a warning, so the strict book build fails). Called
+    on import of :mod:`pedalrepro.figures`, which every chapter notebook imports; a no-op outside
+    IPython. Returns whether a kernel was found.
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with the notebook stack
+        return False
+    shell = get_ipython()
+    if shell is None:
+        return False
+    import numpy as np
+
+    plain = shell.display_formatter.formatters["text/plain"]
+    # concrete classes: IPython stops at the first class in the MRO that defines __repr__
+    for cls in (np.float16, np.float32, np.float64, np.longdouble):
+        plain.for_type(cls, lambda x, p, cycle: p.text(repr(float(x))))
+    for cls in (np.int8, np.int16, np.int32, np.int64, np.uint8, np.uint16, np.uint32, np.uint64):
+        plain.for_type(cls, lambda x, p, cycle: p.text(repr(int(x))))
+    plain.for_type(np.bool_, lambda x, p, cycle: p.text(repr(bool(x))))
+    return True
+
+
+plain_numbers_in_notebooks()
