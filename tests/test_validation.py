@@ -129,13 +129,10 @@ def test_report_rows_status_by_data_source(published):
     meas = [r for r in rows if "measured" in r.item or "Table 4.2" in r.item or "median" in r.item]
     assert meas and all(r.status == report.NOT_REPRODUCIBLE and r.note == "offline (test)"
                         for r in meas)
-    model_rows = [r for r in rows if "model" in r.item]
-    # the model columns of this table are the published ones: all compared and reproduced
-    assert len(model_rows) == 14 and all(r.status == report.REPRODUCED for r in model_rows)
-    t41_off = t41.copy()
-    t41_off.loc[0, "roll_model_rad"] += 1e-3  # a model number 1e-3 rad off is flagged
-    rows = validation.report_rows(t41_off, t42, published, "synthetic", "offline (test)")
-    assert sum(r.status == report.DIFFERS for r in rows) == 1
+    # the model columns are the linear part's rows (linear_report.py), not repeated here: 14
+    # measured, 2 median RD and 12 Table 4.2 rows
+    assert not [r for r in rows if "model" in r.item]
+    assert len(rows) == 14 + 2 + 4 * len(published["table_4_2_open_vs_closed_loop"]["systems"])
     # from the real data the measured columns are compared (here: the published ones -> equal)
     rows = validation.report_rows(t41, t42, published, "figshare")
     t41_meas = [r for r in rows if "measured" in r.item]

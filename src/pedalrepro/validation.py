@@ -164,11 +164,13 @@ def table_4_2(per_run: pd.DataFrame, data_source: str,
 
 def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_source: str,
                 reason: str = "") -> list[report.Row]:
-    """Reproduction-report rows: Table 4.1 (measured and model columns) and Table 4.2.
+    """Reproduction-report rows: Table 4.1 (measured columns, median RD) and Table 4.2.
 
     Measured quantities built from the synthetic stand-in get the status ``not reproducible
     here`` with the reason; from the real data they are compared (3 decimals in Table 4.1: abs
-    5e-4 rad; Table 4.2 percentages: abs 0.5 %). The model columns are always compared (abs 5e-4).
+    5e-4 rad; Table 4.2 percentages: abs 0.5 %). The model columns are the linear part's rows
+    ("Table 4.1 <column> <roll|steer> model", ``rules/scripts/linear_report.py``), not repeated
+    here.
     """
     rows: list[report.Row] = []
     synthetic = data_source != "figshare"
@@ -190,15 +192,6 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
             else:
                 rows.append(report.compare(item, "4.2", p_meas, float(row[f"{q}_measured_rad"]),
                                            abs_=5e-4, fmt="{:.4f}"))
-            p_mod, got = float(pub[f"{q}_model_rad"][i]), float(row[f"{q}_model_rad"])
-            r = report.compare(f"Table 4.1 {q} model (validation table), {sys_} {v} km/h",
-                               "4.2", p_mod, got, abs_=5e-4, fmt="{:.4f}",
-                               note="particular solution (Appendix B, Eq 3.14) at the table's "
-                                    "speed and cadence")
-            if r.status == report.DIFFERS:
-                r.note += (f"; {abs(got - p_mod) - 5e-4:.1g} rad beyond the half-unit of the "
-                           "printed 3 decimals")
-            rows.append(r)
     for q in ("roll", "steer"):
         item = f"Table 4.1 median RD {q}"
         p = float(pub[f"{q}_summary"]["rd_median_percent"])
