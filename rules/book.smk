@@ -33,7 +33,7 @@ rule book:
         "data/figure_ids.yaml",
         sorted(str(p) for p in Path("book").glob("*.md")),
         sorted(str(p) for p in Path("notebooks").glob("*.ipynb")),
-        pkg("report"),
+        pkg("report", "evaluation"),
         sorted(str(p) for p in Path(PKG, "figures").glob("*.py")),
     output:
         BOOK_INDEX,
