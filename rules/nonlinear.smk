@@ -1,18 +1,20 @@
 # Rules of the nonlinear part (thesis Sec 3.1.1.3, 3.1.2.1, 3.2.4; see rules/common.smk):
 # the symbolic models derived and compiled once (cached), their linearisations (benchmark vs
-# Meijaard 2007, HR/CR vs Appendix B), the NT/NP time-solution sweeps split by method, model and
-# speed chunk, the report rows of evaluation points 1a, 1b, 2a, PS vs NP, and fig_3_34.
+# Meijaard 2007, the four models' bodies vs Appendix B, Fig E.1), the NT/NP time-solution sweeps
+# split by method, model and speed chunk, the report rows of evaluation points 1a, 1b, 2a,
+# PS vs NP, and fig_3_34. HS and CF are substitutes (pedalrepro.nonlinear.substitute).
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
                      "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
-                     "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep") + [
+                     "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
+                     "nonlinear/substitute") + [
     f"{PKG}/nonlinear/rhs_driver.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
                         "data/parameters/legs.yaml"]
-# NT and NP exist for NONLINEAR_MODELS only (HR, CR): the linear figures draw every time method
-# for all four models, so TIME_METHODS is extended only when all four have a non-linear model.
+# The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP
+# only when all four have a non-linear model (config nonlinear.models).
 if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
     TIME_METHODS.extend(["NT", "NP"])
 
@@ -41,12 +43,13 @@ rule nonlinear_linearisation:
         appendix_b=table("linearisation_vs_appendix_b"),
         checks=table("nonlinear_checks"),
         own=interm("nonlinear/linearisation_own.npz"),
+        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
     params:
         models=NONLINEAR_MODELS,
     log:
         logfile("nonlinear_linearisation"),
     message:
-        "Linearising the non-linear benchmark and {params.models} models; energy check"
+        "Linearising the non-linear benchmark and {params.models} models; Fig E.1; energy check"
     script:
         "scripts/nonlinear_linearisation.py"
 
@@ -102,6 +105,8 @@ rule nonlinear_report:
         benchmark=table("benchmark_linearisation"),
         appendix_b=table("linearisation_vs_appendix_b"),
         own=interm("nonlinear/linearisation_own.npz"),
+        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
+        eigen_cf=interm("eigen/CF.npz"),
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
               for method in ("NT", "NP")],
         meijaard="data/published/meijaard2007.yaml",
@@ -125,13 +130,16 @@ rule nonlinear_figure:
         style=f"{PKG}/pedalrepro.mplstyle",
         maps=interm("nonlinear/rd_maps.npz"),
         appendix_b=table("linearisation_vs_appendix_b"),
+        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
+        eigen_cf=interm("eigen/CF.npz"),
     output:
         fig_3_34=figure("fig_3_34"),
         appendix_b=figure("nonlinear_linearisation_vs_appendix_b"),
+        fig_e_1=figure("fig_e_1"),
     log:
         logfile("nonlinear_figure"),
     message:
-        "Figures of the non-linear part: fig_3_34 and the Appendix B comparison"
+        "Figures of the non-linear part: fig_3_34, fig_e_1 and the Appendix B comparison"
     script:
         "scripts/nonlinear_figure.py"
 
@@ -143,6 +151,7 @@ BOOK_INPUTS.extend([
     table("nonlinear_checks"),
     interm("nonlinear/rd_maps.npz"),
     figure("fig_3_34"),
+    figure("fig_e_1"),
     figure("nonlinear_linearisation_vs_appendix_b"),
 ] + [interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
      for method in ("NT", "NP")])

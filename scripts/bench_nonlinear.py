@@ -8,7 +8,8 @@ Measures (thesis profile: 180 s at 100 Hz, config/config.yaml tolerances):
    thesis's SPACAR tolerances;
 2. the full NT + NP sweep (4 models x 676 points x 2 methods) with 2 workers, extrapolated from
    runs on a sub-grid (every ``stride``-th speed and cadence) of the thesis grid for the models
-   that exist here (HR, CR), whose mean per-run time stands for HS and CF too.
+   of config ``nonlinear.models`` (HS and CF are substitutes of the same size as HR and CR).
+   The measured full sweep is Snakemake's own benchmark files (results/benchmarks/nonlinear_*).
 Nothing is written; the numbers are printed.
 """
 
@@ -66,13 +67,11 @@ def main() -> None:
             print(f"{method} {name}: {n} sampled runs in {dt:.1f} s ({dt / n:.3f} s/run, "
                   f"{int(out['fell'].sum())} fell)")
     mean = float(np.mean(per_run))
-    n_full = 4 * v.size * w_forced.size * 2
-    n_here = len(cfg["nonlinear"]["models"]) * v.size * w_forced.size * 2
+    n_models = len(cfg["nonlinear"]["models"])
+    n_full = n_models * v.size * w_forced.size * 2
     print(f"mean time per run on the sub-grid: {mean:.3f} s")
-    print(f"full NT + NP sweep, 4 models x {v.size * w.size} x 2 ({n_full} forced runs), "
-          "2 workers: "
-          f"~{mean * n_full / 2 / 60:.1f} min (the {n_here} runs of the models built here: "
-          f"~{mean * n_here / 2 / 60:.1f} min)")
+    print(f"full NT + NP sweep, {n_models} models x {v.size * w.size} x 2 ({n_full} forced "
+          f"runs), 2 workers: ~{mean * n_full / 2 / 60:.1f} min")
 
 
 if __name__ == "__main__":

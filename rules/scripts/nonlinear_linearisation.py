@@ -1,10 +1,15 @@
 """Snakemake script: linearise the non-linear models (Sec 3.1.1.3 verification step).
 
 benchmark_linearisation.csv: M, C1, K0, K2 of the non-linear benchmark model (16 rows).
-linearisation_vs_appendix_b.csv: the project's HR/CR linearisations beside thesis Appendix B.
-nonlinear_checks.csv: the linearisation and energy checks as numbers for the book.
-linearisation_own.npz: the project's matrices of every non-linear model (for PS/LA of its own
-linear limit in the report).
+linearisation_vs_appendix_b.csv: the project's linearisations beside thesis Appendix B. For HR
+and CR the model's own; for the substitutes HS and CF the rigid-rider body they are built on,
+before the correction (``compared`` column), which is what the project's own bodies give.
+nonlinear_checks.csv: the linearisation and energy checks as numbers for the book, including the
+substitutes' corrected linearisation against Appendix B (equal by construction: a code check).
+linearisation_own.npz: the matrices of every non-linear model as simulated (for PS/LA of its
+own linear limit in the report).
+eigen_cf_original_seat.npz: Fig E.1, CF with the original 0.77 m seat post (eigen-sweep format
+of linear_eigen.py).
 """
 
 import sys
@@ -13,8 +18,8 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from pedalrepro import params
-from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro import linear, params, response
+from pedalrepro.nonlinear import substitute, sweep
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.simulate import simulate
 
@@ -31,18 +36,40 @@ bench = benchmark_matrices(NonlinearModel(params.benchmark_parameters("benchmark
 pd.DataFrame(rows(bench), columns=["matrix", "i", "j", "value"]).to_csv(
     snakemake.output.benchmark, index=False)
 
-records, own = [], {"benchmark": bench}
-for name in snakemake.params.models:
-    mats = benchmark_matrices(NonlinearModel(nlp.legs_fixed(name)))
-    own[name] = mats
-    ab = params.appendix_b_model(name)
+
+
+def rel_diffs(mats, ab):
     for k, i, j, value in rows(mats):
         ref = float(getattr(ab, k)[i, j])
         # Appendix B prints round-off (|x| < 1e-12) where the exact value is zero
-        rel = abs(value - ref) / abs(ref) if abs(ref) > 1e-12 else np.nan
-        records.append((name, k, i, j, value, ref, rel))
-pd.DataFrame(records, columns=["model", "matrix", "i", "j", "project", "appendix_b", "rel_diff"]
-             ).to_csv(snakemake.output.appendix_b, index=False)
+        yield k, i, j, value, ref, abs(value - ref) / abs(ref) if abs(ref) > 1e-12 else np.nan
+
+
+records, own, substitute_checks = [], {"benchmark": bench}, []
+for name in snakemake.params.models:
+    ab = params.appendix_b_model(name)
+    own[name] = benchmark_matrices(sweep.nt_model(name))  # what NT / NP simulate
+    body = substitute.body_linearisation(name)
+    compared = ("rigid-rider body of the substitute, before the correction"
+                if substitute.is_substitute(name) else "own model")
+    records += [(name, compared, *r) for r in rel_diffs(body, ab)]
+    if substitute.is_substitute(name):
+        substitute_checks.append((
+            f"substitute_max_rel_diff_{name}",
+            float(np.nanmax([r[5] for r in rel_diffs(own[name], ab)])),
+            "corrected substitute vs Appendix B, 16 entries (equal by construction)"))
+pd.DataFrame(records, columns=["model", "compared", "matrix", "i", "j", "project", "appendix_b",
+                               "rel_diff"]).to_csv(snakemake.output.appendix_b, index=False)
+# Fig E.1: CF with the original seat post, eigenvalues on the linear eigen grid
+cf77 = substitute.original_seat_model("CF")
+speeds = response.eigen_speeds(snakemake.config)
+e77 = linear.eigen_sweep(cf77, speeds)
+s77 = linear.summarise(cf77, speeds)
+np.savez(snakemake.output.eigen_e_1, speed_m_s=speeds, eigenvalues=e77.eigenvalues,
+         names=np.array(e77.names), weave_frequency_rad_s=e77.weave_frequency_rad_s(),
+         stable_ranges_m_s=np.array(linear.stable_ranges(cf77, speeds)).reshape(-1, 2),
+         weave_speed_m_s=np.nan if s77.weave_speed_m_s is None else s77.weave_speed_m_s,
+         note=s77.note, **{k: getattr(cf77, k) for k in NAMES})
 # Energy check (no dissipation, rolling without slip): unforced benchmark run from a stable
 # state at 5 m/s with a roll-rate perturbation, 15 s, rtol = atol = 1e-10 (DOP853).
 nl = NonlinearModel(params.benchmark_parameters("benchmark"))
@@ -55,9 +82,10 @@ pd.DataFrame([
         abs(v - meijaard[k][i][j]) for k, i, j, v in rows(bench)), "Meijaard 2007, 16 entries"),
     ("energy_relative_drift", drift, "unforced benchmark, 5 m/s, roll rate 0.5 rad/s, 15 s"),
     ("energy_J", float(energy[0]), "total mechanical energy of that run"),
-] + [(f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[6] for r in records if r[0] == m])),
+] + [(f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[7] for r in records if r[0] == m])),
       "largest relative difference of the 16 entries (exact zeros excluded)")
-     for m in snakemake.params.models], columns=["check", "value", "what"]).to_csv(
+     for m in snakemake.params.models] + substitute_checks,
+    columns=["check", "value", "what"]).to_csv(
     snakemake.output.checks, index=False)
 np.savez(snakemake.output.own, **{f"{m}_{k}": v[k] for m, v in own.items() for k in NAMES})
 print("benchmark and", list(snakemake.params.models), "linearised", file=sys.stderr)

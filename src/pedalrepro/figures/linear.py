@@ -177,31 +177,35 @@ def _ps_time(ps: Arrays, coord: str, speed: float, omega: float, t: np.ndarray) 
 # eigenvalues, gears
 # --------------------------------------------------------------------------------------------
 
-def fig_eigenvalues(eigen: Mapping[str, Arrays], models: Sequence[str]) -> Figure:
-    """Fig 3.6 (benchmark) / Fig 3.9 (HS, CF, HR, CR): eigenvalues versus speed.
+def eigen_panel(ax, e: Arrays, title: str) -> None:
+    """One eigenvalue-vs-speed panel (``linear_eigen`` npz format): Re by mode, Im weave.
 
     Real parts solid, coloured by mode; the weave imaginary part dashed; self-stable range shaded.
     """
+    colors = {"weave": "C0", "capsize": "C1", "caster": "C2"}
+    v, lam, names = e["speed_m_s"], e["eigenvalues"], [str(s) for s in e["names"]]
+    done = set()
+    for j, name in enumerate(names):
+        ax.plot(v, lam[:, j].real, color=colors[name], label=None if name in done
+                else f"Re, {name}")
+        done.add(name)
+    ax.plot(v, e["weave_frequency_rad_s"], "C0--", label="Im, weave")
+    for lo, hi in _stable_ranges(e):
+        ax.axvspan(lo, hi, color="0.85", zorder=0, label="self-stable")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_ylim(-10, 10)
+    ax.set_title(title)
+    ax.set_xlabel("v (m/s)")
+    ax.set_ylabel("eigenvalue (1/s)")
+
+
+def fig_eigenvalues(eigen: Mapping[str, Arrays], models: Sequence[str]) -> Figure:
+    """Fig 3.6 (benchmark) / Fig 3.9 (HS, CF, HR, CR): eigenvalues vs speed, one panel each."""
     n = len(models)
     fig, axes = plt.subplots(1 if n == 1 else 2, 1 if n == 1 else 2, squeeze=False,
                              figsize=(6.5, 4.2) if n == 1 else (8, 6), sharex=True)
-    colors = {"weave": "C0", "capsize": "C1", "caster": "C2"}
     for ax, m in zip(axes.flat, models, strict=False):
-        e = eigen[m]
-        v, lam, names = e["speed_m_s"], e["eigenvalues"], [str(s) for s in e["names"]]
-        done = set()
-        for j, name in enumerate(names):
-            ax.plot(v, lam[:, j].real, color=colors[name], label=None if name in done
-                    else f"Re, {name}")
-            done.add(name)
-        ax.plot(v, e["weave_frequency_rad_s"], "C0--", label="Im, weave")
-        for lo, hi in _stable_ranges(e):
-            ax.axvspan(lo, hi, color="0.85", zorder=0, label="self-stable")
-        ax.axhline(0, color="k", lw=0.6)
-        ax.set_ylim(-10, 10)
-        ax.set_title(m)
-        ax.set_xlabel("v (m/s)")
-        ax.set_ylabel("eigenvalue (1/s)")
+        eigen_panel(ax, eigen[m], m)
     axes.flat[0].legend(loc="lower left", fontsize=7)
     fig.tight_layout()
     return fig

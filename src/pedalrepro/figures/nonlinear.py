@@ -47,7 +47,11 @@ def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
 
 
 def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
-    """Relative difference of the project's HR/CR linearisation from thesis Appendix B."""
+    """Relative difference of the project's linearisations from thesis Appendix B.
+
+    ``table``: ``linearisation_vs_appendix_b.csv``. HR, CR: the models' own linearisation; HS,
+    CF: the rigid-rider body of the substitute before its correction (``compared`` column).
+    """
     fig, ax = plt.subplots(figsize=(7, 3.2))
     labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]
     for name, group in table.groupby("model", sort=False):
@@ -55,7 +59,30 @@ def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
         ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name)
     ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
     ax.set_ylabel("|project - App. B| / |App. B| (%)")
-    ax.legend()
+    ax.legend(fontsize=7, ncols=2)
+    return fig
+
+
+def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndarray]
+            ) -> plt.Figure:
+    """Fig E.1: CF eigenvalues with the original 0.77 m seat post beside the 0.72 m one.
+
+    Parameters
+    ----------
+    cf
+        Eigen sweep of Appendix B's CF (``results/intermediate/eigen/CF.npz``).
+    cf_original_seat
+        Eigen sweep of :func:`pedalrepro.nonlinear.substitute.original_seat_model`
+        (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): Appendix B's CF plus
+        the seat-height change of the project's city rigid-rider body.
+    """
+    from .linear import eigen_panel
+
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.8), sharey=True)
+    eigen_panel(axes[0], cf, "CF, seat 0.72 m (Appendix B)")
+    eigen_panel(axes[1], cf_original_seat, "CF, seat 0.77 m (App. B + rigid-rider change)")
+    axes[0].legend(loc="lower left", fontsize=7)
+    fig.tight_layout()
     return fig
 
 

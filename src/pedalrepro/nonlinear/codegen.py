@@ -34,12 +34,18 @@ def cache_dir() -> Path:
     return base / "nonlinear"
 
 
+#: The sources the generated code depends on, read once at import: a process that imported the
+#: model before its file was edited must not store its (old) derivation under the new file's key.
+_SOURCES_AT_IMPORT: tuple[bytes, ...] = (
+    Path(_model.__file__).read_bytes(), Path(__file__).read_bytes(),
+    Path(__file__).with_name("rhs_driver.c").read_bytes())
+
+
 def cache_key(options: _model.ModelOptions) -> str:
     """Hash of everything the generated code depends on."""
     h = hashlib.sha256()
-    h.update(Path(_model.__file__).read_bytes())
-    h.update(Path(__file__).read_bytes())
-    h.update(Path(__file__).with_name("rhs_driver.c").read_bytes())
+    for text in _SOURCES_AT_IMPORT:
+        h.update(text)
     for dist in ("sympy", "symbrim"):
         h.update(importlib.metadata.version(dist).encode())
     h.update(repr(options).encode())

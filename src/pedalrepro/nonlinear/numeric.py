@@ -16,7 +16,7 @@ Meijaard et al. (2007) and the generalised pedalling torques of Eq 3.14.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -74,6 +74,24 @@ def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
     }
 
 
+def correction_parameters(matrices: Mapping[str, np.ndarray] | None) -> dict[str, float]:
+    """``lc_*`` parameter values of the linear correction (zeros for ``None``)."""
+    out = dict.fromkeys(model.correction_parameter_names(), 0.0)
+    if matrices is None:
+        return out
+    missing = [k for k in model.CORRECTION_MATRICES if k not in matrices]
+    if missing:
+        raise KeyError(f"linear correction matrices missing: {missing}")
+    for k in model.CORRECTION_MATRICES:
+        mat = np.asarray(matrices[k], dtype=float)
+        if mat.shape != (2, 2) or not np.all(np.isfinite(mat)):
+            raise ValueError(f"linear correction {k} must be a finite 2 x 2 matrix, got {mat!r}")
+        for i in range(2):
+            for j in range(2):
+                out[f"lc_{k}_{i}{j}"] = float(mat[i, j])
+    return out
+
+
 @dataclass
 class NonlinearModel:
     """A parametrised non-linear model ready for integration.
@@ -90,19 +108,25 @@ class NonlinearModel:
     spec
         With legs: ``t -> s`` the prescribed motion (positions, rates, accelerations; the
         order of the generated ``SPEC`` list).
+    linear_correction
+        Optional benchmark-form matrices ``{"M", "C1", "K0", "K2"}`` (2 x 2 each, Eq 3.1)
+        added to the roll and steer equations (:func:`model._add_linear_correction`): the
+        substitute models HS and CF. ``None``: no correction (all other models).
     """
 
     bench: dict[str, float]
     options: model.ModelOptions = field(default_factory=model.ModelOptions)
     leg_parameters: dict[str, float] = field(default_factory=dict)
     spec: Callable[[float], np.ndarray] | None = None
+    linear_correction: Mapping[str, np.ndarray] | None = None
 
     compiled: bool = True
 
     def __post_init__(self) -> None:
         self._code = codegen.load(self.options)
         self._lib = _load_library(self.options) if self.compiled else None
-        values = moore_parameters(self.bench) | self.leg_parameters
+        values = (correction_parameters(self.linear_correction) | moore_parameters(self.bench)
+                  | self.leg_parameters)
         missing = [n for n in self._code.PARAMS if n not in values]
         if missing:
             raise KeyError(f"parameters missing for the non-linear model: {missing}")

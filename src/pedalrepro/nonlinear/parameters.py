@@ -19,8 +19,9 @@ import numpy as np
 from .. import legs, params, paths
 from . import model as _model
 
-#: Models with a non-linear counterpart here (HS and CF need the arms: see the book).
-NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HR", "CR")
+#: Models with a non-linear counterpart here. HS and CF are substitutes (rigid-rider body plus a
+#: linear correction to Appendix B, :mod:`pedalrepro.nonlinear.substitute`): no arm loops.
+NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
 
 
 def settings() -> dict:
@@ -86,12 +87,13 @@ def bottom_bracket_m(model: str) -> np.ndarray:
 
 
 @cache
-def bicycle_rider(model: str) -> dict[str, float]:
+def bicycle_rider(model: str, original_seat: bool = False) -> dict[str, float]:
     """Benchmark parameters of a model with the rider and legs lumped rigidly into body B.
 
-    ``"benchmark"``: Meijaard et al. (2007) unchanged. ``"HR"``/``"CR"``: Stratos/Browser +
-    rider Jason + two 0.2 kg cranks at the crank axis; for CR the rider is lowered 0.05 m along
-    the seat tube (0.77 -> 0.72 m, Sec 2.1.1).
+    ``"benchmark"``: Meijaard et al. (2007) unchanged. ``"HR"``/``"CR"`` (and the bodies of the
+    substitutes ``"HS"``/``"CF"``): Stratos/Browser + rider Jason + two 0.2 kg cranks at the
+    crank axis; on the city bicycle the rider is lowered 0.05 m along the seat tube
+    (0.77 -> 0.72 m, Sec 2.1.1) unless ``original_seat`` (Fig E.1).
     """
     s = settings()
     if model not in s["models"]:
@@ -110,7 +112,7 @@ def bicycle_rider(model: str) -> dict[str, float]:
            - _parallel(frame[0], frame[1] - total[1]) - _parallel(m_r, com_r - total[1]))
     parts = [frame]
     geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
-    if spec["legs"] == "city" and a["lower_city_rider_along_seat_tube"]:
+    if spec["legs"] == "city" and a["lower_city_rider_along_seat_tube"] and not original_seat:
         original = params.legs()["seat_geometry"]["city"]["original_seat_tube_plus_post_m"]
         drop = original - geom.seat_tube_plus_post_m
         lam = geom.seat_tube_angle_rad

@@ -18,6 +18,7 @@ from .. import spectral
 from ..simulate import Simulation, harmonic_torque, simulate, simulate_compiled
 from . import model as _model
 from . import parameters as nlp
+from . import substitute
 from .numeric import NonlinearModel
 
 METHODS: tuple[str, ...] = ("NT", "NP")
@@ -42,15 +43,20 @@ class RunSettings:
 
 
 def nt_model(name: str) -> NonlinearModel:
-    """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3)."""
-    return NonlinearModel(nlp.legs_fixed(name))
+    """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3).
+
+    HS and CF are substitutes (:mod:`pedalrepro.nonlinear.substitute`): their rigid-rider body
+    plus the linear correction to Appendix B.
+    """
+    return NonlinearModel(nlp.legs_fixed(name),
+                          linear_correction=substitute.linear_correction(name))
 
 
 def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
     """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
     leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
     return NonlinearModel(nlp.without_legs(name, mean), _model.ModelOptions(legs=True),
-                          leg_params, spec)
+                          leg_params, spec, linear_correction=substitute.linear_correction(name))
 
 
 def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,

@@ -1,0 +1,90 @@
+"""The substitute non-linear models HS and CF (rigid-rider body + linear correction) and Fig E.1.
+
+Expected values: thesis Appendix B (Eq B.2-B.17) for the substitutes' linearisation, Meijaard et
+al. (2007) plus an arbitrary correction for the correction terms themselves, and the benchmark
+roll inertia formula (Meijaard 2007, T_xx) for the seat change of Fig E.1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pedalrepro import params
+from pedalrepro.nonlinear import model, substitute, sweep
+from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+
+NAMES = ("M", "C1", "K0", "K2")
+
+
+def assert_matrices_equal(got, want, rel=1e-9, abs_=1e-9):
+    for k in NAMES:
+        np.testing.assert_allclose(got[k], want[k], rtol=rel, atol=abs_, err_msg=k)
+
+
+@pytest.mark.parametrize("name", ["HS", "CF"])
+def test_substitute_linearises_to_appendix_b(name):
+    """NT substitute = Appendix B to round-off (the construction), though its body differs."""
+    ab = params.appendix_b_model(name)
+    want = {k: getattr(ab, k) for k in NAMES}
+    assert_matrices_equal(benchmark_matrices(sweep.nt_model(name)), want)
+    body = substitute.body_linearisation(name)
+    # the rigid-rider body alone is far from Appendix B (the arms' share): steer inertia
+    assert abs(body["M"][1, 1] - ab.M[1, 1]) / ab.M[1, 1] > 0.1
+
+
+def test_correction_adds_exactly_to_the_benchmark():
+    """Arbitrary correction on the benchmark bicycle: linearisation = Meijaard 2007 + correction."""
+    rng = np.random.default_rng(7)
+    corr = {k: rng.normal(scale=0.3, size=(2, 2)) for k in NAMES}
+    corr["M"] = corr["M"] @ corr["M"].T * 0.1  # keep the mass matrix positive definite
+    bench = params.benchmark_parameters("benchmark")
+    plain = benchmark_matrices(NonlinearModel(bench))
+    corrected = benchmark_matrices(NonlinearModel(bench, linear_correction=corr))
+    assert_matrices_equal(corrected, {k: plain[k] + corr[k] for k in NAMES})
+
+
+def test_compiled_substitute_with_moving_legs_equals_python():
+    """The C right-hand side carries the correction terms (NP substitute, off-equilibrium)."""
+    nl = sweep.np_model("CF", 2.0 * np.pi)
+    if nl._lib is None:
+        pytest.skip("no C compiler: only the Python path exists")
+    assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
+               if n.startswith("lc_"))
+    x = np.array([0.1, nl.nominal_pitch_rad, 0.05, 0.3, -12.0, -0.2])
+    np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
+                               rtol=1e-10, atol=1e-12)
+
+
+def test_models_built_from_their_bodies_have_no_correction():
+    assert substitute.linear_correction("HR") is None
+    assert substitute.linear_correction("CR") is None
+    assert set(model.correction_parameter_names()) == {
+        f"lc_{k}_{i}{j}" for k in NAMES for i in range(2) for j in range(2)}
+
+
+@pytest.mark.parametrize("bad", [{"M": np.eye(2)}, {k: np.eye(3) for k in NAMES},
+                                 {k: np.full((2, 2), np.nan) for k in NAMES}])
+def test_bad_correction_is_a_clear_error(bad):
+    with pytest.raises((KeyError, ValueError), match="linear correction"):
+        NonlinearModel(params.benchmark_parameters("benchmark"), linear_correction=bad)
+
+
+def test_original_seat_changes_roll_inertia_as_the_benchmark_formula_says():
+    """Fig E.1: the 0.05 m seat raise changes M[0,0] by d(I_Bxx + m_B z_B^2) (Meijaard T_xx)."""
+    low, high = nlp.bicycle_rider("CR"), nlp.bicycle_rider("CR", original_seat=True)
+    assert high["mB"] == pytest.approx(low["mB"], rel=1e-14)
+    assert high["zB"] < low["zB"]  # z down: the rider is higher on the original seat
+    expected = (high["IBxx"] + high["mB"] * high["zB"] ** 2) - (low["IBxx"]
+                                                                 + low["mB"] * low["zB"] ** 2)
+    cf, cf77 = params.appendix_b_model("CF"), substitute.original_seat_model("CF")
+    assert cf77.M[0, 0] - cf.M[0, 0] == pytest.approx(expected, rel=1e-9)
+    # gravity stiffness changes by -m_B dz_B (Meijaard 2007 K0[0,0] = m_t z_t)
+    assert cf77.K0[0, 0] - cf.K0[0, 0] == pytest.approx(
+        high["mB"] * high["zB"] - low["mB"] * low["zB"], rel=1e-9)
+
+
+def test_original_seat_only_for_the_city_bicycle():
+    with pytest.raises(ValueError, match="city bicycle"):
+        substitute.original_seat_model("HS")
