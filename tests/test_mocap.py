@@ -34,6 +34,19 @@ def _rms(a, b):
     return float(np.sqrt(np.mean((a - b) ** 2)))
 
 
+def _run_vars(folder, run_id: int) -> dict:
+    """The variables of a run file (without scipy's ``__header__`` entries), to modify."""
+    return {k: v for k, v in scipy.io.loadmat(str(folder / f"{run_id:04d}.mat")).items()
+            if not k.startswith("__")}
+
+
+def _saved(folder, run_id: int, data: dict):
+    """``data`` written as run ``run_id`` into ``folder``; returns the file's path."""
+    path = folder / f"{run_id:04d}.mat"
+    scipy.io.savemat(str(path), data)
+    return path
+
+
 @pytest.fixture(scope="module")
 def stand_in(tmp_path_factory):
     """Six stand-in runs (one per gap style and system, low and high speed) and a static run."""
@@ -207,13 +220,11 @@ def test_sign_convention_is_the_benchmark_one():
 def test_one_missing_marker_per_body_is_repaired(stand_in, tmp_path):
     out, truths = stand_in
     run_id, (r, truth, _) = next(iter(truths.items()))
-    data = scipy.io.loadmat(str(out / f"{run_id:04d}.mat"))
+    data = _run_vars(out, run_id)
     for v in ("x", "y", "z", "xori", "yori", "zori"):
         data[v][:, 22] = np.nan  # right handlebar (23) never seen
         data[v][:, 25] = np.nan  # seat post (26) never seen
-    data = {k: v for k, v in data.items() if not k.startswith("__")}
-    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
-    a = runs.analyse_run(tmp_path / f"{run_id:04d}.mat")
+    a = runs.analyse_run(_saved(tmp_path, run_id, data))
     assert any("never visible" in n for n in a.kin.notes)
     # Documented accuracy of the repair: with one of the four fork markers gone for the whole
     # run, every gap of the other three leaves a pair (steer about the axis from two markers,
@@ -226,20 +237,16 @@ def test_one_missing_marker_per_body_is_repaired(stand_in, tmp_path):
 def test_too_many_missing_markers_is_a_clear_error(stand_in, tmp_path):
     out, truths = stand_in
     run_id = next(iter(truths))
-    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
-            if not k.startswith("__")}
+    data = _run_vars(out, run_id)
     for v in ("x", "y", "z", "xori", "yori", "zori"):
         data[v][:, [20, 26]] = np.nan  # both front-wheel markers (21, 27)
-    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
     with pytest.raises(ValueError, match=r"needs at least 3 markers"):
-        runs.analyse_run(tmp_path / f"{run_id:04d}.mat")
-    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
-            if not k.startswith("__")}
+        runs.analyse_run(_saved(tmp_path, run_id, data))
+    data = _run_vars(out, run_id)
     for v in ("x", "y", "z", "xori", "yori", "zori"):
         data[v][:, 0] = np.nan  # right foot (1) never seen: no crank angle, no cadence
-    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
     with pytest.raises(ValueError, match=r"feet markers 1 and 5 missing"):
-        runs.analyse_run(tmp_path / f"{run_id:04d}.mat")
+        runs.analyse_run(_saved(tmp_path, run_id, data))
 
 
 def test_corrupt_truncated_and_malformed_files(stand_in, tmp_path):
@@ -253,8 +260,7 @@ def test_corrupt_truncated_and_malformed_files(stand_in, tmp_path):
     bad.write_bytes(np.random.default_rng(0).bytes(5000))  # garbage
     with pytest.raises(reader.MocapFileError, match="3002.mat"):
         reader.read_run(bad)
-    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
-            if not k.startswith("__")}
+    data = _run_vars(out, run_id)
     scipy.io.savemat(str(bad), {k: v for k, v in data.items() if k != "z"})
     with pytest.raises(reader.MocapFileError, match=r"missing"):
         reader.read_run(bad)
@@ -440,14 +446,12 @@ def test_marker_spikes_are_rejected(stand_in, tmp_path):
     # robust fit drops them and the angles stay within the ground-truth tolerance.
     out, truths = stand_in
     run_id, (r, truth, _) = next(iter(truths.items()))
-    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
-            if not k.startswith("__")}
+    data = _run_vars(out, run_id)
     frames = np.random.default_rng(3).choice(6000, 60, replace=False)
     for v in ("x", "xori"):
         data[v][frames, 22] += 0.05  # marker 23
         data[v][frames, 23] -= 0.05  # marker 24
-    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
-    a = runs.analyse_run(tmp_path / f"{run_id:04d}.mat")
+    a = runs.analyse_run(_saved(tmp_path, run_id, data))
     assert any("spikes" in n for n in a.kin.notes)
     assert _rms(a.kin.steer_rad, truth["steer_rad"]) < 1e-3
     assert _rms(a.kin.roll_rad, truth["roll_rad"]) < 1e-3
@@ -456,12 +460,10 @@ def test_marker_spikes_are_rejected(stand_in, tmp_path):
 def test_raw_arrays_in_millimetres_are_detected_separately(stand_in, tmp_path):
     out, truths = stand_in
     run_id = next(iter(truths))
-    data = {k: v for k, v in scipy.io.loadmat(str(out / f"{run_id:04d}.mat")).items()
-            if not k.startswith("__")}
+    data = _run_vars(out, run_id)
     ref = reader.read_run(out / f"{run_id:04d}.mat")
     for v in ("xori", "yori", "zori"):
         data[v] = data[v] * 1000.0  # raw in mm, repaired in m
-    scipy.io.savemat(str(tmp_path / f"{run_id:04d}.mat"), data)
-    run = reader.read_run(tmp_path / f"{run_id:04d}.mat")
+    run = reader.read_run(_saved(tmp_path, run_id, data))
     assert any(n.startswith("xori, yori, zori: millimetres") for n in run.notes)
     assert np.allclose(run.raw_m, ref.raw_m, equal_nan=True, rtol=1e-12, atol=1e-12)

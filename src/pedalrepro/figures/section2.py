@@ -149,12 +149,22 @@ def fig_2_4(data: Mapping[str, np.ndarray], max_harmonic: int = 10) -> Figure:
 def fig_2_5(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.5: d'Alembert forces of both legs (Eq 2.8) vs crank angle, forward and vertical,
     four-bar vs cadence-only (whose forces cancel exactly)."""
+    return _crank_panels(data, "force_n", ((0, "forward $F_x$"), (2, "vertical $F_z$")), "N",
+                         8.0)
+
+
+def _crank_panels(data: Mapping[str, np.ndarray], key: str, panels: tuple[tuple[int, str], ...],
+                  unit: str, width_in: float) -> Figure:
+    """One panel per ``(column, name)`` of ``panels``: ``data[key]`` (leg model) and its
+    simplified counterpart (``force_n`` -> ``force_simple_n``) against the crank angle."""
     deg = _deg(data)
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.2), sharex=True)
-    for ax, col, name in ((axes[0], 0, "forward $F_x$"), (axes[1], 2, "vertical $F_z$")):
-        ax.plot(deg, np.asarray(data["force_n"])[:, col], "C0", label=LEG)
-        ax.plot(deg, np.asarray(data["force_simple_n"])[:, col], "C1--", label=SIMPLE)
-        ax.set_ylabel(f"{name} (N)")
+    fig, axes = plt.subplots(1, len(panels), figsize=(width_in, 3.2), sharex=True)
+    quantity, suffix = key.rsplit("_", 1)
+    for ax, (col, name) in zip(axes, panels, strict=True):
+        ax.plot(deg, np.asarray(data[key])[:, col], "C0", label=LEG)
+        ax.plot(deg, np.asarray(data[f"{quantity}_simple_{suffix}"])[:, col], "C1--",
+                label=SIMPLE)
+        ax.set_ylabel(f"{name} ({unit})")
         ax.set_xlabel(r"crank angle $\omega t$ (deg)")
         _crank_axis(ax)
     axes[0].legend()
@@ -164,34 +174,14 @@ def fig_2_5(data: Mapping[str, np.ndarray]) -> Figure:
 
 def fig_2_6(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.6: Cartesian d'Alembert torques (Eq 2.9) roll, pitch and yaw vs crank angle."""
-    deg = _deg(data)
-    fig, axes = plt.subplots(1, 3, figsize=(10.0, 3.2), sharex=True)
-    for k, name in enumerate(("roll $T_x$", "pitch $T_y$", "yaw $T_z$")):
-        ax = axes[k]
-        ax.plot(deg, np.asarray(data["torque_nm"])[:, k], "C0", label=LEG)
-        ax.plot(deg, np.asarray(data["torque_simple_nm"])[:, k], "C1--", label=SIMPLE)
-        ax.set_ylabel(f"{name} (N m)")
-        ax.set_xlabel(r"crank angle $\omega t$ (deg)")
-        _crank_axis(ax)
-    axes[0].legend()
-    fig.tight_layout()
-    return fig
+    return _crank_panels(data, "torque_nm",
+                         ((0, "roll $T_x$"), (1, "pitch $T_y$"), (2, "yaw $T_z$")), "N m", 10.0)
 
 
 def fig_2_7(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.7: generalised roll and steer torques (Eq 2.15, 2.22, 2.24) vs crank angle."""
-    deg = _deg(data)
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.2), sharex=True)
-    for k, name in enumerate((r"roll $T_\phi$", r"steer $T_\delta$")):
-        ax = axes[k]
-        ax.plot(deg, np.asarray(data["generalised_nm"])[:, k], "C0", label=LEG)
-        ax.plot(deg, np.asarray(data["generalised_simple_nm"])[:, k], "C1--", label=SIMPLE)
-        ax.set_ylabel(f"{name} (N m)")
-        ax.set_xlabel(r"crank angle $\omega t$ (deg)")
-        _crank_axis(ax)
-    axes[0].legend()
-    fig.tight_layout()
-    return fig
+    return _crank_panels(data, "generalised_nm",
+                         ((0, r"roll $T_\phi$"), (1, r"steer $T_\delta$")), "N m", 8.0)
 
 
 def fig_d_1(data: Mapping[str, np.ndarray]) -> Figure:

@@ -69,31 +69,49 @@ def _stamp(fig: Figure, reason: str) -> None:
         synthetic_stamp(fig, reason)
 
 
+def _example_grid(system: str, examples: Sequence[ExampleRun], ps: PSMap, coord: str):
+    """Figure with the particular-solution ``coord`` map (top, the example runs numbered on it)
+    and a grid of one row per example run, two columns (roll, steer) below; returns
+    ``(fig, gridspec)``."""
+    n = len(examples)
+    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
+    gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
+    ax = fig.add_subplot(gs[0, :])
+    cs = _contour(ax, ps, coord, [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
+                                  for e in examples])
+    fig.colorbar(cs, ax=ax, label=f"log$_{{10}}$ {coord} amplitude (rad)")
+    ax.set_title(f"system {system}: particular-solution {coord} amplitude and example runs")
+    return fig, gs
+
+
+def _label_cell(a, i: int, j: int, n: int, ylabel: str, xlabel: str) -> None:
+    """Small-print labels of the example-run cell in row ``i`` (of ``n``), column ``j``."""
+    a.set_ylabel(ylabel, fontsize=7)
+    a.tick_params(labelsize=7)
+    if i == n - 1:
+        a.set_xlabel(xlabel)
+    if i == 0 and j == 0:
+        a.legend(fontsize=6, loc="upper right")
+
+
+def _signals(e: ExampleRun):
+    """``(measured, model, name)`` for roll and steer of an example run."""
+    return ((e.roll_rad, e.model_roll_rad, "roll"), (e.steer_rad, e.model_steer_rad, "steer"))
+
+
 def time_series(system: str, examples: Sequence[ExampleRun], ps: PSMap,
                 synthetic_reason: str = "", window_s: float = 10.0) -> Figure:
     """Figs 4.2-4.5: measured vs modelled roll (left) and steer (right) for example runs,
     numbered on the particular-solution roll map (top)."""
     n = len(examples)
-    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
-    gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
-    ax = fig.add_subplot(gs[0, :])
-    cs = _contour(ax, ps, "roll", [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
-                                   for e in examples])
-    fig.colorbar(cs, ax=ax, label="log$_{10}$ roll amplitude (rad)")
-    ax.set_title(f"system {system}: particular-solution roll amplitude and example runs")
+    fig, gs = _example_grid(system, examples, ps, "roll")
     for i, e in enumerate(examples):
         sel = e.t_s <= e.t_s[0] + window_s
-        for j, (meas, mod, name) in enumerate(((e.roll_rad, e.model_roll_rad, "roll"),
-                                                (e.steer_rad, e.model_steer_rad, "steer"))):
+        for j, (meas, mod, name) in enumerate(_signals(e)):
             a = fig.add_subplot(gs[i + 1, j])
             a.plot(e.t_s[sel], meas[sel] - meas.mean(), lw=0.8, label="measured")
             a.plot(e.t_s[sel], mod[sel], lw=0.8, label="model (open loop)")
-            a.set_ylabel(f"{i + 1}: {name} (rad)", fontsize=7)
-            a.tick_params(labelsize=7)
-            if i == n - 1:
-                a.set_xlabel("time (s)")
-            if i == 0 and j == 0:
-                a.legend(fontsize=6, loc="upper right")
+            _label_cell(a, i, j, n, f"{i + 1}: {name} (rad)", "time (s)")
             a.set_title(f"{e.speed_kmh:g} km/h, {e.cadence_rpm:.0f} rpm", fontsize=7)
     fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
@@ -104,16 +122,9 @@ def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
                      sample_rate_hz: float, synthetic_reason: str = "") -> Figure:
     """Figs 4.6-4.9: Hann spectra of measured and modelled roll and steer (Sec 3.1.2.1.1)."""
     n = len(examples)
-    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
-    gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
-    ax = fig.add_subplot(gs[0, :])
-    cs = _contour(ax, ps, "steer", [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
-                                    for e in examples])
-    fig.colorbar(cs, ax=ax, label="log$_{10}$ steer amplitude (rad)")
-    ax.set_title(f"system {system}: particular-solution steer amplitude and example runs")
+    fig, gs = _example_grid(system, examples, ps, "steer")
     for i, e in enumerate(examples):
-        for j, (meas, mod, name) in enumerate(((e.roll_rad, e.model_roll_rad, "roll"),
-                                                (e.steer_rad, e.model_steer_rad, "steer"))):
+        for j, (meas, mod, name) in enumerate(_signals(e)):
             a = fig.add_subplot(gs[i + 1, j])
             f, am = spectral.spectrum(meas - meas.mean(), sample_rate_hz, "hann")
             _, amod = spectral.spectrum(mod - mod.mean(), sample_rate_hz, "hann")
@@ -123,12 +134,7 @@ def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
             for k in (1, 2, 3):
                 a.axvline(k * e.cadence_rpm / 60, color="grey", lw=0.5, ls=":")
             a.set_ylim(1e-6, None)
-            a.set_ylabel(f"{i + 1}: |{name}| (rad)", fontsize=7)
-            a.tick_params(labelsize=7)
-            if i == n - 1:
-                a.set_xlabel("frequency (Hz)")
-            if i == 0 and j == 0:
-                a.legend(fontsize=6, loc="upper right")
+            _label_cell(a, i, j, n, f"{i + 1}: |{name}| (rad)", "frequency (Hz)")
     fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
