@@ -529,21 +529,29 @@ def _rd_map(ax, v, w, rd, eig=None, title="", log: bool = True):
     return cs
 
 
+def _label_rd_grid(fig: Figure, axes, cs) -> None:
+    """Axis labels of a grid of RD maps (v below, omega on the left) and one RD colour bar
+    (none when no panel was drawn, ``cs is None``)."""
+    for ax in axes[-1]:
+        ax.set_xlabel("v (m/s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("$\\omega$ (rad/s)")
+    if cs is not None:
+        fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.8)
+
+
 def fig_rd_reference(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
                      models: Sequence[str]) -> Figure:
     """Fig 3.37: RD of each grid point from the reference 60 rpm, 5 m/s (evaluation point 4)."""
     fig, axes = plt.subplots(2, len(models), figsize=(3 * len(models), 5.6), sharex=True,
                              sharey=True, squeeze=False)
+    cs = None
     for col, m in enumerate(models):
         for row, coord in enumerate(("roll", "steer")):
             d = rd[m]
             cs = _rd_map(axes[row, col], d["speed_m_s"], d["omega_rad_s"], d[f"4_{coord}"],
                          eigen.get(m), f"{m} {coord}: RD vs 60 rpm, 5 m/s", log=False)
-    for ax in axes[-1]:
-        ax.set_xlabel("v (m/s)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("$\\omega$ (rad/s)")
-    fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.8)
+    _label_rd_grid(fig, axes, cs)
     return fig
 
 
@@ -552,17 +560,14 @@ def fig_rd_models(pairs: Arrays) -> Figure:
     keys = [("5", "HR", "HS"), ("5", "CR", "CF"), ("6", "CR", "HR")]
     fig, axes = plt.subplots(2, 3, figsize=(10, 5.6), sharex=True, sharey=True)
     v, w = pairs["speed_m_s"], pairs["omega_rad_s"]
+    cs = None
     for col, (p, a, b) in enumerate(keys):
         for row, coord in enumerate(("roll", "steer")):
             key = f"{p}_{a}_vs_{b}_{coord}"
             if key in pairs:
                 cs = _rd_map(axes[row, col], v, w, pairs[key], None,
                              f"point {p}: {a} vs {b}, {coord}", log=False)
-    for ax in axes[-1]:
-        ax.set_xlabel("v (m/s)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("$\\omega$ (rad/s)")
-    fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.8)
+    _label_rd_grid(fig, axes, cs)
     return fig
 
 
@@ -600,13 +605,8 @@ def fig_rd_points(rd: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: st
             ax.set_title(title, fontsize=8)
             continue
         cs = _rd_map(ax, v, w, r, eig, title)
-    for ax in axes[-1]:
-        ax.set_xlabel("v (m/s)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("$\\omega$ (rad/s)")
     fig.suptitle(f"model {model}, {coord}: relative differences (Eq 3.26)", fontsize=9)
-    if cs is not None:
-        fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.8)
+    _label_rd_grid(fig, axes, cs)
     _missing_note(fig, [m for m in ALL_TIME_METHODS if m in time])
     return fig
 
