@@ -24,7 +24,7 @@ import sympy as sm
 from . import model as _model
 
 #: Generated-code format version (bump when the generator changes).
-CODEGEN_VERSION = "1"
+CODEGEN_VERSION = "2"
 
 
 def cache_dir() -> Path:
@@ -68,8 +68,10 @@ def _source(sym: _model.SymbolicModel) -> str:
             if exp == -sm.S.Half:
                 return f"(1/sqrt({self._print(base)}))"
             if exp.is_Integer and 1 < int(exp) <= 4:
+                # parenthesised: sympy prints a / x**2 as "a/" + this, so a bare "x*x" would
+                # read (a/x)*x
                 b = self.parenthesize(base, 1000)
-                return "*".join([b] * int(exp))
+                return "(" + "*".join([b] * int(exp)) + ")"
             return super()._print_Pow(expr, rational=rational)
 
     printer = Printer({"fully_qualified_modules": False})
