@@ -1,8 +1,9 @@
-"""The substitute non-linear models HS and CF (rigid-rider body + linear correction) and Fig E.1.
+"""The substitute non-linear model HS (rigid-rider body + linear correction) and seat changes.
 
-Expected values: thesis Appendix B (Eq B.2-B.17) for the substitutes' linearisation, Meijaard et
+Expected values: thesis Appendix B (Eq B.2-B.17) for the substitute's linearisation, Meijaard et
 al. (2007) plus an arbitrary correction for the correction terms themselves, and the benchmark
-roll inertia formula (Meijaard 2007, T_xx) for the seat change of Fig E.1.
+roll inertia formula (Meijaard 2007, T_xx) for the seat change of the rigid city rider. CF has
+its own arm loops (tests/test_arms.py).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ def assert_matrices_equal(got, want, rel=1e-9, abs_=1e-9):
         np.testing.assert_allclose(got[k], want[k], rtol=rel, atol=abs_, err_msg=k)
 
 
-@pytest.mark.parametrize("name", ["HS", "CF"])
+@pytest.mark.parametrize("name", ["HS"])
 def test_substitute_linearises_to_appendix_b(name):
     """NT substitute = Appendix B to round-off (the construction), though its body differs."""
     ab = params.appendix_b_model(name)
@@ -47,7 +48,7 @@ def test_correction_adds_exactly_to_the_benchmark():
 
 def test_compiled_substitute_with_moving_legs_equals_python():
     """The C right-hand side carries the correction terms (NP substitute, off-equilibrium)."""
-    nl = sweep.np_model("CF", 2.0 * np.pi)
+    nl = sweep.np_model("HS", 2.0 * np.pi)
     if nl._lib is None:
         pytest.skip("no C compiler: only the Python path exists")
     assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
@@ -60,6 +61,8 @@ def test_compiled_substitute_with_moving_legs_equals_python():
 def test_models_built_from_their_bodies_have_no_correction():
     assert substitute.linear_correction("HR") is None
     assert substitute.linear_correction("CR") is None
+    assert substitute.linear_correction("CF") is None  # own arm loops
+    assert not substitute.is_substitute("CF") and substitute.is_substitute("HS")
     assert set(model.correction_parameter_names()) == {
         f"lc_{k}_{i}{j}" for k in NAMES for i in range(2) for j in range(2)}
 
@@ -72,19 +75,14 @@ def test_bad_correction_is_a_clear_error(bad):
 
 
 def test_original_seat_changes_roll_inertia_as_the_benchmark_formula_says():
-    """Fig E.1: the 0.05 m seat raise changes M[0,0] by d(I_Bxx + m_B z_B^2) (Meijaard T_xx)."""
+    """Rigid city rider raised 0.05 m: M[0,0] changes by d(I_Bxx + m_B z_B^2) (Meijaard T_xx)."""
     low, high = nlp.bicycle_rider("CR"), nlp.bicycle_rider("CR", original_seat=True)
     assert high["mB"] == pytest.approx(low["mB"], rel=1e-14)
     assert high["zB"] < low["zB"]  # z down: the rider is higher on the original seat
     expected = (high["IBxx"] + high["mB"] * high["zB"] ** 2) - (low["IBxx"]
                                                                  + low["mB"] * low["zB"] ** 2)
-    cf, cf77 = params.appendix_b_model("CF"), substitute.original_seat_model("CF")
-    assert cf77.M[0, 0] - cf.M[0, 0] == pytest.approx(expected, rel=1e-9)
+    lo, hi = (benchmark_matrices(NonlinearModel(b)) for b in (low, high))
+    assert hi["M"][0, 0] - lo["M"][0, 0] == pytest.approx(expected, rel=1e-9)
     # gravity stiffness changes by -m_B dz_B (Meijaard 2007 K0[0,0] = m_t z_t)
-    assert cf77.K0[0, 0] - cf.K0[0, 0] == pytest.approx(
+    assert hi["K0"][0, 0] - lo["K0"][0, 0] == pytest.approx(
         high["mB"] * high["zB"] - low["mB"] * low["zB"], rel=1e-9)
-
-
-def test_original_seat_only_for_the_city_bicycle():
-    with pytest.raises(ValueError, match="city bicycle"):
-        substitute.original_seat_model("HS")

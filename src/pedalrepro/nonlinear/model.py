@@ -6,7 +6,9 @@ The thesis built its non-linear models in SPACAR; this project derives them with
 the legs and cranks are optional separate bodies whose motion relative to the rear frame is
 *prescribed* (specified functions of time, the isokinetic crank of Sec 3.1.1.3), so the model
 keeps the Whipple bicycle's three velocity degrees of freedom (roll rate, rear wheel rate,
-steer rate).
+steer rate). Model CF adds the two arm loops of the city posture as particles whose positions are
+explicit (closed-form) functions of the steer angle (:func:`_add_arms`,
+:mod:`pedalrepro.nonlinear.arms`): still three degrees of freedom.
 
 Formulation
 -----------
@@ -31,6 +33,7 @@ from dataclasses import dataclass
 import sympy as sm
 from sympy.physics.mechanics import (
     KanesMethod,
+    Particle,
     Point,
     ReferenceFrame,
     RigidBody,
@@ -44,6 +47,12 @@ LEG_BODIES: tuple[str, ...] = ("crank_r", "crank_l", "shank_r", "shank_l", "thig
 IGNORABLE_Q: tuple[int, ...] = (0, 1, 2, 5, 7)
 ROLL, PITCH, STEER = 3, 4, 6
 REAR_WHEEL = 5
+#: Symbols of the arm loops (one set; the left arm is the mirror image, y -> -y), see
+#: :func:`_add_arms` and :mod:`pedalrepro.nonlinear.arms`.
+ARM_PARAMETERS: tuple[str, ...] = (
+    "arm_sx", "arm_sy", "arm_sz", "arm_hx", "arm_hy", "arm_hz", "arm_nx", "arm_ny", "arm_nz",
+    "arm_a", "arm_b", "arm_cu",
+    "arm_cf", "arm_sign", "arm_m_elbow", "arm_m_upper", "arm_m_fore")
 #: Benchmark-form matrices of the linear correction terms (substitute models, see
 #: :func:`correction_parameter_names`).
 CORRECTION_MATRICES: tuple[str, ...] = ("M", "C1", "K0", "K2")
@@ -61,12 +70,17 @@ class ModelOptions:
     legs
         Add the six prescribed leg and crank bodies (method NP). Without them the legs are part
         of the rigid rear-frame body (methods NT, the linearisation checks).
+    arms
+        Add the two arm loops of the city posture (CF, Fig 3.4): upper arm and forearm of each
+        arm as particles whose positions are explicit functions of the steer angle
+        (:func:`_add_arms`). Without them the arms are part of the rigid rear-frame body.
     """
 
     legs: bool = False
+    arms: bool = False
 
     def key(self) -> str:
-        return f"whipple{'_legs' if self.legs else ''}"
+        return f"whipple{'_legs' if self.legs else ''}{'_arms' if self.arms else ''}"
 
 
 @dataclass
@@ -131,6 +145,76 @@ def _add_linear_correction(M: sm.Matrix, F: sm.Matrix, q_s, u_s, g: sm.Symbol):
     return M, F
 
 
+def arm_loop_elbow(s_pt, h_pt, normal, a, b, sign, sqrt=sm.sqrt):
+    """Elbow of one arm loop in closed form (3-tuples of rear-frame coordinates).
+
+    The shoulder ``S`` is a flexion joint about the axis ``normal`` (unit, fixed in the trunk)
+    followed by a rotation about the upper arm (SymBRiM ``FlexRotLeftShoulder``), the elbow a
+    pin (``PinElbowStickLeftArm``) and the hand a ball joint on the handlebar
+    (``HolonomicHandGrips``): the upper arm stays in the plane through ``S`` normal to
+    ``normal`` (the sagittal plane for ``normal`` = lateral axis). With the grip ``H`` at
+    ``dy = n . (H - S)`` from that plane, the forearm's projection on it has length
+    ``b' = sqrt(b^2 - dy^2)``; the elbow is the intersection of the circles ``|E - S| = a`` and
+    ``|E - H'| = b'`` in the plane, ``sign`` (+1 or -1) choosing the branch: ``E = S + t e1 +
+    sign h e2`` with ``e1`` along ``H' - S`` and ``e2 = n x e1``.
+
+    Works on sympy expressions and on numbers (``sqrt`` of the matching library).
+    """
+    r = [hc - sc for hc, sc in zip(h_pt, s_pt, strict=True)]
+    n = normal
+    dy = sum(ni * ri for ni, ri in zip(n, r, strict=True))
+    rp = [ri - dy * ni for ri, ni in zip(r, n, strict=True)]
+    d2 = rp[0] ** 2 + rp[1] ** 2 + rp[2] ** 2
+    d = sqrt(d2)
+    along = (a**2 - (b**2 - dy**2) + d2) / (2 * d)
+    h = sqrt(a**2 - along**2)
+    e2 = (n[1] * rp[2] - n[2] * rp[1], n[2] * rp[0] - n[0] * rp[2], n[0] * rp[1] - n[1] * rp[0])
+    return tuple(sc + (along * rc + sign * h * ec) / d for sc, rc, ec in zip(s_pt, rp, e2,
+                                                                            strict=True))
+
+
+def _add_arms(bicycle, N, params: dict) -> list:
+    """The six moving particles of the two arm loops (elbow, upper-arm COM, forearm COM each).
+
+    Shoulder ``S`` (``arm_s*``, rear-frame coordinates from the rear wheel hub) and the
+    shoulder flexion axis (``arm_n*``, unit) are fixed in the rear frame, the grip ``H``
+    (``arm_h*``, front-frame coordinates from SymBRiM's steer hub on the steer axis) in the
+    front frame; the left arm mirrors the right (``y -> -y``). Each
+    segment is a rod of three particles reproducing its mass, COM and transverse central
+    inertia (:mod:`pedalrepro.nonlinear.arms`); the particles at ``S`` and ``H`` are part of the
+    rear and front frame bodies (numeric parameters), only the elbow particle
+    (``arm_m_elbow``) and the two COM particles (``arm_m_upper`` at ``arm_cu * a`` from ``S``,
+    ``arm_m_fore`` at ``arm_cf * b`` from ``E`` towards ``H``) move relative to the frames.
+    """
+    rear = bicycle.rear_frame
+    front = bicycle.front_frame
+    C = rear.body.frame
+    hub = rear.wheel_hub.point
+    steer_hub = front.steer_hub.point
+    E_frame = front.body.frame
+    p = params
+    particles = []
+    for side, sy in (("r", 1), ("l", -1)):
+        s_pt = (p["arm_sx"], sy * p["arm_sy"], p["arm_sz"])
+        # mirror image of the right arm: the flexion axis reflected and reversed (-M n), so that
+        # e2 = n x e1 is the reflected e2 and the same ``sign`` picks the mirrored elbow
+        normal = (sy * p["arm_nx"], p["arm_ny"], sy * p["arm_nz"])
+        grip = (steer_hub.pos_from(hub) + p["arm_hx"] * E_frame.x + sy * p["arm_hy"] * E_frame.y
+                + p["arm_hz"] * E_frame.z)
+        h_pt = tuple(grip.dot(ax) for ax in (C.x, C.y, C.z))
+        e_pt = arm_loop_elbow(s_pt, h_pt, normal, p["arm_a"], p["arm_b"], p["arm_sign"])
+        upper = tuple(s + p["arm_cu"] * (e - s) for s, e in zip(s_pt, e_pt, strict=True))
+        fore = tuple(e + p["arm_cf"] * (h - e) for e, h in zip(e_pt, h_pt, strict=True))
+        for label, xyz, mass in (("elbow", e_pt, p["arm_m_elbow"]),
+                                 ("upper", upper, p["arm_m_upper"]),
+                                 ("fore", fore, p["arm_m_fore"])):
+            point = Point(f"arm_{label}_{side}")
+            point.set_pos(hub, xyz[0] * C.x + xyz[1] * C.y + xyz[2] * C.z)
+            point.set_vel(N, point.pos_from(bicycle.ground.origin).dt(N))
+            particles.append(Particle(f"arm_{label}_{side}", point, mass))
+    return particles
+
+
 def derive(options: ModelOptions) -> SymbolicModel:
     """Derive the model symbolically with SymBRiM and Kane's method (a few seconds).
 
@@ -184,7 +268,10 @@ def derive(options: ModelOptions) -> SymbolicModel:
             leg_params += [y, m, i_perp]
             ang_syms.append(th)
         spec = pos_syms
-    # Gravity as forces on every mass centre (SymBRiM's apply_uniform_gravity does the same).
+    if options.arms:
+        bodies += _add_arms(bicycle, N, {n: sm.Symbol(n) for n in ARM_PARAMETERS})
+    # Gravity as forces on every mass centre and arm particle (SymBRiM's apply_uniform_gravity
+    # does the same).
     loads = [(b.masscenter, -g * b.mass * normal) for b in bodies]
     # SymBRiM's Moore model defines every speed as u_i = q_i' (checked here).
     kdes = [ui - qi.diff(t) for qi, ui in zip(q, u, strict=True)]

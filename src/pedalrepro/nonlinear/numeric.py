@@ -111,7 +111,10 @@ class NonlinearModel:
     linear_correction
         Optional benchmark-form matrices ``{"M", "C1", "K0", "K2"}`` (2 x 2 each, Eq 3.1)
         added to the roll and steer equations (:func:`model._add_linear_correction`): the
-        substitute models HS and CF. ``None``: no correction (all other models).
+        substitute model HS. ``None``: no correction (all other models).
+    arm_parameters
+        With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
+        (:func:`pedalrepro.nonlinear.parameters.model_bodies`).
     """
 
     bench: dict[str, float]
@@ -119,6 +122,7 @@ class NonlinearModel:
     leg_parameters: dict[str, float] = field(default_factory=dict)
     spec: Callable[[float], np.ndarray] | None = None
     linear_correction: Mapping[str, np.ndarray] | None = None
+    arm_parameters: dict[str, float] = field(default_factory=dict)
 
     compiled: bool = True
 
@@ -126,7 +130,7 @@ class NonlinearModel:
         self._code = codegen.load(self.options)
         self._lib = _load_library(self.options) if self.compiled else None
         values = (correction_parameters(self.linear_correction) | moore_parameters(self.bench)
-                  | self.leg_parameters)
+                  | self.leg_parameters | self.arm_parameters)
         missing = [n for n in self._code.PARAMS if n not in values]
         if missing:
             raise KeyError(f"parameters missing for the non-linear model: {missing}")

@@ -19,8 +19,9 @@ import numpy as np
 from .. import legs, params, paths
 from . import model as _model
 
-#: Models with a non-linear counterpart here. HS and CF are substitutes (rigid-rider body plus a
-#: linear correction to Appendix B, :mod:`pedalrepro.nonlinear.substitute`): no arm loops.
+#: Models with a non-linear counterpart here. CF has its own arm loops
+#: (:mod:`pedalrepro.nonlinear.arms`); HS is a substitute (rigid-rider body plus a linear
+#: correction to Appendix B, :mod:`pedalrepro.nonlinear.substitute`).
 NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
 
 
@@ -86,46 +87,129 @@ def bottom_bracket_m(model: str) -> np.ndarray:
     return np.array([np.sqrt(bb["lcs"] ** 2 - (r_r - bb["hbb"]) ** 2), 0.0, -bb["hbb"]])
 
 
-@cache
-def bicycle_rider(model: str, original_seat: bool = False) -> dict[str, float]:
-    """Benchmark parameters of a model with the rider and legs lumped rigidly into body B.
+def _subtract(total: tuple, parts: list) -> tuple[float, np.ndarray, np.ndarray]:
+    """(mass, com, central inertia) of ``total`` without ``parts`` (inverse of _combine)."""
+    m, com, inertia = total
+    m_p = sum(p[0] for p in parts)
+    m_rest = m - m_p
+    com_rest = (m * com - sum(p[0] * p[1] for p in parts)) / m_rest
+    about = inertia + _parallel(m, com - com_rest) - sum(
+        p[2] + _parallel(p[0], p[1] - com_rest) for p in parts)
+    return m_rest, com_rest, about
 
-    ``"benchmark"``: Meijaard et al. (2007) unchanged. ``"HR"``/``"CR"`` (and the bodies of the
-    substitutes ``"HS"``/``"CF"``): Stratos/Browser + rider Jason + two 0.2 kg cranks at the
-    crank axis; on the city bicycle the rider is lowered 0.05 m along the seat tube
-    (0.77 -> 0.72 m, Sec 2.1.1) unless ``original_seat`` (Fig E.1).
+
+def rider_drop_m(model: str, original_seat: bool = False) -> np.ndarray:
+    """Displacement of the rider (benchmark frame, m) for the lowered city seat (Sec 2.1.1).
+
+    0.05 m down along the seat tube (0.77 -> 0.72 m) on the city bicycle, zero otherwise or
+    with ``original_seat`` (Fig E.1).
     """
+    s = settings()
+    spec = s["models"][model]
+    a = s["assumptions"]
+    geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
+    if spec["legs"] == "city" and a["lower_city_rider_along_seat_tube"] and not original_seat:
+        original = params.legs()["seat_geometry"]["city"]["original_seat_tube_plus_post_m"]
+        drop = original - geom.seat_tube_plus_post_m
+        lam = geom.seat_tube_angle_rad
+        return drop * np.array([np.cos(lam), 0.0, np.sin(lam)])
+    return np.zeros(3)
+
+
+def has_arms(model: str) -> bool:
+    """True for a model with arm loops (``arms`` in nonlinear_models.yaml: CF)."""
+    return model != "benchmark" and bool(settings()["models"][model].get("arms"))
+
+
+def _bicycle_rider(model: str, original_seat: bool, arms: bool):
+    """Benchmark parameters (and the arm loop, if ``arms``) of a model; see bicycle_rider."""
     s = settings()
     if model not in s["models"]:
         raise KeyError(f"no non-linear model {model!r}: expected one of {NONLINEAR_MODELS}")
-    if model == "benchmark":
-        return params.benchmark_parameters("benchmark")
     spec = s["models"][model]
     alone, both = _bicycleparameters(spec["bicycle"], spec["rider"])
     a = s["assumptions"]
     frame = _body_b(alone)
     total = _body_b(both)
     # the rider alone = total - bicycle frame (inverse parallel-axis combination)
-    m_r = total[0] - frame[0]
-    com_r = (total[0] * total[1] - frame[0] * frame[1]) / m_r
-    i_r = (total[2] + _parallel(total[0], total[1] - total[1]) - frame[2]
-           - _parallel(frame[0], frame[1] - total[1]) - _parallel(m_r, com_r - total[1]))
-    parts = [frame]
-    geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
-    if spec["legs"] == "city" and a["lower_city_rider_along_seat_tube"] and not original_seat:
-        original = params.legs()["seat_geometry"]["city"]["original_seat_tube_plus_post_m"]
-        drop = original - geom.seat_tube_plus_post_m
-        lam = geom.seat_tube_angle_rad
-        com_r = com_r + drop * np.array([np.cos(lam), 0.0, np.sin(lam)])
-    parts.append((m_r, com_r, i_r))
+    rider = _subtract(total, [frame])
+    drop = rider_drop_m(model, original_seat)
+    loop = None
+    front_parts: list = []
+    if arms:
+        from . import arms as _arms
+
+        yeadon = _arms.yeadon_arms(spec["bicycle"])
+        rider = _subtract(rider, [p.as_tuple() for p in yeadon.segments])
+        loop = _arms.arm_loop(yeadon.shoulder + drop, yeadon)
+        at_shoulder, at_grip = _arms.fixed_parts(loop)
+        mirror = np.diag([1.0, -1.0, 1.0])
+        hands = [yeadon.hand.as_tuple(), (yeadon.hand.mass, mirror @ yeadon.hand.com,
+                                          mirror @ yeadon.hand.inertia @ mirror)]
+        front_parts = hands + [p.as_tuple() for p in at_grip]
+    parts = [frame, (rider[0], rider[1] + drop, rider[2])]
+    if loop is not None:
+        parts += [p.as_tuple() for p in at_shoulder]
     out = dict(both)
     if a["add_cranks"]:
+        geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
         bb = s["bottom_bracket"][spec["bicycle"]]
         a_pt = np.array([np.sqrt(bb["lcs"] ** 2 - (both["rR"] - bb["hbb"]) ** 2), 0.0, -bb["hbb"]])
         _, _, mean, _ = _leg_revolution(geom, a_pt, both["lam"], both["rR"], 2 * np.pi, 256)
         parts += [p for name, p in zip(_model.LEG_BODIES, mean, strict=True)
                   if name.startswith("crank")]
-    return _set_body_b(out, *_combine(parts))
+    out = _set_body_b(out, *_combine(parts))
+    if front_parts:
+        h = (out["mH"], np.array([out["xH"], 0.0, out["zH"]]), _inertia(out, "H"))
+        m, com, inertia = _combine([h] + front_parts)
+        out.update(mH=m, xH=com[0], zH=com[2], IHxx=inertia[0, 0], IHyy=inertia[1, 1],
+                   IHzz=inertia[2, 2], IHxz=inertia[0, 2])
+    return out, loop
+
+
+@cache
+def bicycle_rider(model: str, original_seat: bool = False) -> dict[str, float]:
+    """Benchmark parameters of a model with the rider and legs lumped rigidly into body B.
+
+    ``"benchmark"``: Meijaard et al. (2007) unchanged. ``"HR"``/``"CR"`` (and the rigid-rider
+    bodies of ``"HS"``/``"CF"``): Stratos/Browser + rider Jason + two 0.2 kg cranks at the
+    crank axis; on the city bicycle the rider is lowered 0.05 m along the seat tube
+    (0.77 -> 0.72 m, Sec 2.1.1) unless ``original_seat`` (Fig E.1).
+    """
+    if model == "benchmark":
+        return params.benchmark_parameters("benchmark")
+    return _bicycle_rider(model, original_seat, False)[0]
+
+
+@cache
+def model_bodies(model: str, original_seat: bool = False) -> tuple[dict[str, float], dict]:
+    """Benchmark parameters of the model's rigid bodies and the values of its arm symbols.
+
+    Without arms: :func:`bicycle_rider` and ``{}``. With arms (CF,
+    :mod:`pedalrepro.nonlinear.arms`): body B without the arms (shoulder particles added),
+    the front frame with the hands and the grip particles, and the ``arm_*`` values
+    (:data:`model.ARM_PARAMETERS`) of the arm loop at this seat height.
+    """
+    if not has_arms(model):
+        return bicycle_rider(model, original_seat), {}
+    from . import arms as _arms
+    from .numeric import moore_parameters
+
+    bench, loop = _bicycle_rider(model, original_seat, True)
+    return bench, _arms.symbol_values(loop, bench, moore_parameters(bench))
+
+
+@cache
+def arm_loop(model: str, original_seat: bool = False):
+    """The :class:`pedalrepro.nonlinear.arms.ArmLoop` of a model with arms."""
+    if not has_arms(model):
+        raise ValueError(f"{model} has no arm loops")
+    return _bicycle_rider(model, original_seat, True)[1]
+
+
+def model_options(model: str, legs: bool = False) -> _model.ModelOptions:
+    """The symbolic model of ``model`` (arm loops for CF), with or without moving legs."""
+    return _model.ModelOptions(legs=legs, arms=has_arms(model))
 
 
 class FourierSpec:
@@ -229,9 +313,9 @@ def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
     return leg_params, np.array(rows), mean_parts, frozen_parts
 
 
-def without_legs(model: str, mean_parts) -> dict[str, float]:
-    """Body B of :func:`bicycle_rider` with the revolution-averaged leg bodies removed."""
-    bench = bicycle_rider(model)
+def without_legs(model: str, mean_parts, original_seat: bool = False) -> dict[str, float]:
+    """Body B of :func:`model_bodies` with the revolution-averaged leg bodies removed."""
+    bench = model_bodies(model, original_seat)[0]
     m, com, inertia = _body_b(bench)
     m_l = sum(p[0] for p in mean_parts)
     com_l = sum(p[0] * p[1] for p in mean_parts) / m_l
@@ -242,21 +326,22 @@ def without_legs(model: str, mean_parts) -> dict[str, float]:
     return _set_body_b(bench, m_rest, com_rest, i_rest)
 
 
-def legs_fixed(model: str) -> dict[str, float]:
+def legs_fixed(model: str, original_seat: bool = False) -> dict[str, float]:
     """Benchmark parameters of the NT model: the legs fixed to the frame at crank angle 0.
 
     Thesis Sec 3.1.1.3: the models are linearised (and NT keeps the legs fixed) with the crank
     horizontal, right foot forward (``theta_A = 0``). Body B = :func:`bicycle_rider` with the
     revolution-averaged leg bodies replaced by the same bodies frozen at ``t = 0``, so that NP's
     time average and NT differ exactly by this choice of leg configuration (evaluation
-    points 1a/2a: the simplified mass distribution).
+    points 1a/2a: the simplified mass distribution). With arms (CF) body B and the front frame
+    of :func:`model_bodies`; the arm symbols are :func:`model_bodies`' second item.
     """
     if model == "benchmark":
         return bicycle_rider(model)
     s = settings()
     geom = legs.leg_geometry(s["models"][model]["legs"], s["assumptions"]["leg_com_model"])
-    bench = bicycle_rider(model)
+    bench = model_bodies(model, original_seat)[0]
     _, _, mean, frozen = _leg_revolution(geom, bottom_bracket_m(model), bench["lam"],
                                          bench["rR"], 2.0 * np.pi, 256)
-    rest = without_legs(model, mean)
+    rest = without_legs(model, mean, original_seat)
     return _set_body_b(rest, *_combine([_body_b(rest)] + list(frozen)))

@@ -1,20 +1,21 @@
-"""Substitute non-linear models HS and CF: a rigid-rider body plus a linear correction.
+"""Substitute non-linear model HS: a rigid-rider body plus a linear correction.
 
-The thesis's models HS (hybrid bicycle, straight arms) and CF (city bicycle, flexed arms) carry
-the passive upper body of Schwab et al. (2012) with the hands on the handlebars (Sec 3.1.1.2,
-Fig 3.4). The thesis does not give the joint layout of those arm loops (Fig 3.4 is a drawing;
-its SPACAR element list is not published), and straight arms with ball joints at shoulder and
-hand lock the steering of a rigid trunk, so the loop closure depends on choices the text leaves
-open. This project therefore uses a documented substitute that is faithful in the linear limit
-(``data/parameters/nonlinear_models.yaml``, book page "Deviations and ambiguities"):
+The thesis's model HS (hybrid bicycle, straight arms) carries the passive upper body of Schwab
+et al. (2012) with the hands on the handlebars (Sec 3.1.1.2, Fig 3.4). Straight arms with ball
+joints at shoulder and hand lock the steering of a rigid trunk, so its loop closure depends on
+choices the text leaves open (the SPACAR element list is not published). This project
+therefore uses a documented substitute that is faithful in the linear limit
+(``data/parameters/nonlinear_models.yaml``, book page "Deviations and ambiguities"). CF (flexed
+arms, hinged at shoulders and elbows) is built with its own arm loops
+(:mod:`pedalrepro.nonlinear.arms`); the machinery below would serve any model whose yaml entry
+has a ``substitute`` key:
 
     substitute = rigid-rider model of the same bicycle (the HR / CR bodies, moving legs for NP)
                  + dM q'' + v dC1 q' + (g dK0 + v^2 dK2) q  on the roll and steer equations,
     d* = Appendix B matrices (Eq B.2-B.17) - the linearisation of that rigid-rider body.
 
 Its linearisation equals Appendix B to round-off (tested); its non-linear terms are those of the
-rigid-rider Whipple model. The same construction gives Fig E.1: CF with the original 0.77 m seat
-post = Appendix B CF + (linearisation of the city rigid-rider body at 0.77 m - at 0.72 m).
+rigid-rider Whipple model.
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ def substitute_spec(model: str) -> dict | None:
 
 
 def is_substitute(model: str) -> bool:
-    """True for the substitute models (HS, CF)."""
+    """True for the substitute models (HS)."""
     return substitute_spec(model) is not None
 
 
@@ -52,7 +53,8 @@ def body_linearisation(model: str) -> dict[str, np.ndarray]:
     """
     spec = substitute_spec(model)
     body = spec["body_of"] if spec else model
-    return benchmark_matrices(NonlinearModel(nlp.legs_fixed(body)))
+    return benchmark_matrices(NonlinearModel(nlp.legs_fixed(body), nlp.model_options(body),
+                                             arm_parameters=nlp.model_bodies(body)[1]))
 
 
 @cache
@@ -70,19 +72,3 @@ def linear_correction(model: str) -> dict[str, np.ndarray] | None:
     target = params.appendix_b_model(model)
     body = body_linearisation(model)
     return {k: getattr(target, k) - body[k] for k in MATRICES}
-
-
-def original_seat_model(model: str = "CF") -> params.LinearModel:
-    """Fig E.1: the city model with the original 0.77 m seat tube + post (Sec 3.2.1, App E).
-
-    Appendix B's CF (0.72 m) plus the change that raising the rigid rider 0.05 m back along the
-    seat tube makes to the linearisation of the project's city rigid-rider body. The arms' share
-    of that change (their posture changes with the seat) is not in the substitute.
-    """
-    if nlp.settings()["models"][model]["legs"] != "city":
-        raise ValueError(f"{model}: the seat was lowered on the city bicycle only (Sec 2.1.1)")
-    lowered = benchmark_matrices(NonlinearModel(nlp.bicycle_rider("CR")))
-    original = benchmark_matrices(NonlinearModel(nlp.bicycle_rider("CR", original_seat=True)))
-    base = params.appendix_b_model(model)
-    return params.LinearModel(f"{model} (0.77 m seat)", *(
-        getattr(base, k) + original[k] - lowered[k] for k in MATRICES), g=base.g)

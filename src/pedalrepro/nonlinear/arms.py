@@ -1,0 +1,306 @@
+"""Arm loops of the city posture (model CF, thesis Sec 3.1.1.2-3.1.1.3, Fig 3.4).
+
+Schwab, Meijaard & Kooijman (2012), the thesis's source for CF: "the upper body is upright and
+stays fixed with respect to the rear frame and the arms, hinged at the shoulders and the
+elbows, exert the control force on the handlebar"; Fig 3.4: hinges at shoulders and elbows,
+ball-and-socket joints at the hands. Neither adds degrees of freedom. Here:
+
+* The rider is BicycleParameters' Yeadon human of rider Jason on the Browser
+  (``add_rider('Jason', reCalc=True)``); the four arm segments (``A1``, ``A2``, ``B1``, ``B2``)
+  are taken out of the rigid rider (body B).
+* The hands (the Yeadon solids from the wrist to the finger tips, ``a4``-``a6``) are lumped
+  into the front frame (handlebar) in their nominal pose; the grip point ``H`` is the base of
+  the thumb, the point BicycleParameters puts on the handlebar ends (``w_hb / 2`` apart).
+* Each arm is an upper arm ``S -> E`` (length ``a``, Yeadon ``A1``/``B1``) and a forearm
+  ``E -> H`` (length ``b`` = elbow to base of thumb; mass, COM and inertia of the forearm
+  solids ``a2``, ``a3``). Joints as SymBRiM's ``FlexRotLeftShoulder`` +
+  ``PinElbowStickLeftArm`` + ``HolonomicHandGrips``: the upper arm stays in a plane through the
+  shoulder, the elbow follows in closed form from the steer angle
+  (:func:`pedalrepro.nonlinear.model.arm_loop_elbow`).
+* Each segment is a rod of three particles with its mass, COM and transverse central inertia
+  (``m1 = I / (c l)`` at the proximal joint, ``m2 = I / ((l - c) l)`` at the distal joint,
+  ``m3 = m - m1 - m2`` at the COM, ``c`` the COM distance from the proximal joint). The
+  inertia about the segment's own axis is neglected (Yeadon: 1.4e-3 kg m^2 for the forearm-hand,
+  5 % of the transverse value), as is the difference of its two transverse moments (mean used).
+* The Yeadon posture has the elbows 0.047 m outside the shoulders' sagittal planes (shoulder
+  adduction ``CA1adduction`` = -0.16 rad) and the arm nearly straight (elbow 14 deg), so a
+  shoulder flexing about the trunk's lateral axis cannot close that loop (6.9 mm short). The
+  flexion axis is therefore the lateral axis tilted by the fixed adduction
+  (:func:`flexion_axis`): the loop then closes on Yeadon's posture exactly
+  (:func:`nominal_posture`), and the upper arm moves in the plane of Yeadon's upper arm.
+* City seat (0.77 -> 0.72 m, Sec 2.1.1): the rider without the arms (shoulders included) is
+  lowered along the seat tube; the hands stay on the handlebar, so the arm posture changes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import warnings
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from .. import params, paths
+from . import model as _model
+
+#: Yeadon -> bicycle (benchmark) axes: BicycleParameters ``rider.yeadon_vec_to_bicycle_vec``.
+_YEADON_TO_BIKE = np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+
+
+@dataclass(frozen=True)
+class Part:
+    """Mass (kg), COM (3,) and central inertia (3 x 3, kg m^2) in the benchmark frame."""
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+    def as_tuple(self) -> tuple[float, np.ndarray, np.ndarray]:
+        return self.mass, self.com, self.inertia
+
+
+@dataclass(frozen=True)
+class YeadonArms:
+    """The right arm of the Yeadon rider in the benchmark frame (original seat height).
+
+    ``shoulder``, ``elbow``, ``grip``: joint centres and the base of the thumb; ``upper``,
+    ``forearm``, ``hand``: the parts; ``segments``: the four Yeadon arm segments (both arms) as
+    they sit in BicycleParameters' rigid rider.
+    """
+
+    shoulder: np.ndarray
+    elbow: np.ndarray
+    grip: np.ndarray
+    upper: Part
+    forearm: Part
+    hand: Part
+    segments: tuple[Part, ...]
+
+
+def _combine(parts) -> Part:
+    m = sum(p.mass for p in parts)
+    com = sum(p.mass * p.com for p in parts) / m
+    inertia = sum(p.inertia + p.mass * ((p.com - com) @ (p.com - com) * np.eye(3)
+                                        - np.outer(p.com - com, p.com - com)) for p in parts)
+    return Part(m, com, inertia)
+
+
+@cache
+def yeadon_arms(bicycle: str = "Browser") -> YeadonArms:
+    """Arm geometry and inertia of rider Jason on ``bicycle`` from BicycleParameters/Yeadon."""
+    import bicycleparameters as bp
+    from bicycleparameters.rider import yeadon_vec_to_bicycle_vec
+
+    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        warnings.simplefilter("ignore")
+        bike = bp.Bicycle(bicycle, pathToData=str(paths.PARAMETERS / "bicycleparameters"),
+                          forceRawCalc=bicycle == "Stratos")
+        bike.add_rider("Jason", reCalc=True)
+    human = bike.human
+    measured, benchmark = bike.parameters["Measured"], bike.parameters["Benchmark"]
+
+    def point(v) -> np.ndarray:
+        return yeadon_vec_to_bicycle_vec(np.asarray(v, float).reshape(3, 1), measured,
+                                         benchmark)[:, 0].astype(float)
+
+    def part(obj) -> Part:
+        inertia = _YEADON_TO_BIKE @ np.asarray(obj.inertia, float) @ _YEADON_TO_BIKE.T
+        return Part(float(obj.mass), point(obj.center_of_mass), inertia)
+
+    # B = right arm (bicycle y > 0); yeadon solid order: b2, b3 forearm; b4, b5, b6 hand
+    # (wrist -> base of thumb -> knuckles -> finger tips); b4's pos is the base of the thumb.
+    forearm = _combine([part(s) for s in human.B2.solids[:2]])
+    hand = _combine([part(s) for s in human.B2.solids[2:]])
+    return YeadonArms(point(human.B1.pos), point(human.B1.end_pos),
+                      point(human.B2.solids[2].pos), part(human.B1), forearm, hand,
+                      tuple(part(s) for s in (human.A1, human.A2, human.B1, human.B2)))
+
+
+def rod_particles(part: Part, start: np.ndarray, end: np.ndarray) -> tuple[float, float, float,
+                                                                           float]:
+    """Three particles of a rod ``start -> end`` with the part's mass, COM, transverse inertia.
+
+    Returns ``(m_start, m_end, m_com, c / l)``. The COM is projected on the axis (Yeadon's
+    segments are coaxial stacks of solids: it lies on it) and the transverse inertia is the
+    mean of the two central moments across the axis.
+    """
+    axis = end - start
+    length = float(np.linalg.norm(axis))
+    e = axis / length
+    c = float((part.com - start) @ e)
+    i_axial = float(e @ part.inertia @ e)
+    i_perp = (float(np.trace(part.inertia)) - i_axial) / 2.0
+    m1 = i_perp / (c * length)
+    m2 = i_perp / ((length - c) * length)
+    m3 = part.mass - m1 - m2
+    if not (0 < c < length) or m3 < 0:
+        raise ValueError(f"rod particles: COM at {c} of {length} m, centre mass {m3} kg < 0")
+    return m1, m2, m3, c / length
+
+
+@dataclass(frozen=True)
+class ArmLoop:
+    """One arm loop in the benchmark frame: shoulder, grip (steer 0), lengths, branch, rods."""
+
+    shoulder: np.ndarray
+    grip: np.ndarray
+    normal: np.ndarray
+    a: float
+    b: float
+    sign: float
+    upper: tuple[float, float, float, float]
+    forearm: tuple[float, float, float, float]
+
+    def elbow(self, grip: np.ndarray | None = None) -> np.ndarray:
+        """Closed-form elbow (benchmark frame; the plane ``y = S_y`` is the same as Moore's)."""
+        h = self.grip if grip is None else grip
+        return np.array(_model.arm_loop_elbow(self.shoulder, h, self.normal, self.a, self.b,
+                                              self.sign, sqrt=np.sqrt))
+
+    def mirrored(self) -> ArmLoop:
+        """The left arm: reflected in the bicycle's plane of symmetry, flexion axis ``-M n``."""
+        m = np.array([1.0, -1.0, 1.0])
+        return ArmLoop(self.shoulder * m, self.grip * m, -self.normal * m, self.a, self.b,
+                       self.sign, self.upper, self.forearm)
+
+
+def grip_at_steer(grip: np.ndarray, steer_rad: float, bench: dict) -> np.ndarray:
+    """The grip point rotated by the steer angle about the steer axis (Rodrigues; benchmark
+    frame, rear frame upright: the axis through ``(w + c, 0, 0)`` along
+    ``(sin lam, 0, cos lam)``, positive steer to the right as Meijaard et al. 2007)."""
+    k = np.array([np.sin(bench["lam"]), 0.0, np.cos(bench["lam"])])
+    origin = np.array([bench["w"] + bench["c"], 0.0, 0.0])
+    r = grip - origin
+    c, s = np.cos(steer_rad), np.sin(steer_rad)
+    return origin + r * c + np.cross(k, r) * s + k * (k @ r) * (1 - c)
+
+
+def flexion_axis(arms: YeadonArms | None = None, sagittal: bool = False) -> np.ndarray:
+    """Shoulder flexion axis (unit, benchmark frame, fixed in the trunk).
+
+    ``sagittal``: the trunk's lateral axis ``(0, 1, 0)`` (SymBRiM's ``FlexRotLeftShoulder``
+    literally: the upper arm stays in the sagittal plane through the shoulder). Default: the
+    unit vector nearest the lateral axis that is perpendicular to Yeadon's upper arm, i.e. the
+    lateral axis tilted by Yeadon's (fixed) shoulder adduction, so that the nominal posture
+    closes the loop exactly. The sagittal plane cannot close the loop at the original 0.77 m
+    seat: Yeadon's arm is almost straight (elbow 14 deg) with the elbow 0.047 m outside the
+    shoulder's sagittal plane (:func:`nominal_posture`).
+    """
+    if sagittal:
+        return np.array([0.0, 1.0, 0.0])
+    y = yeadon_arms() if arms is None else arms
+    u = (y.elbow - y.shoulder) / np.linalg.norm(y.elbow - y.shoulder)
+    n = np.array([0.0, 1.0, 0.0]) - u[1] * u
+    return n / np.linalg.norm(n)
+
+
+def arm_loop(shoulder: np.ndarray, arms: YeadonArms | None = None,
+             sagittal: bool = False) -> ArmLoop:
+    """The right arm loop with the shoulder at ``shoulder`` (grip, lengths from Yeadon).
+
+    The elbow branch is the one nearest Yeadon's elbow.
+    """
+    y = yeadon_arms() if arms is None else arms
+    a = float(np.linalg.norm(y.elbow - y.shoulder))
+    b = float(np.linalg.norm(y.grip - y.elbow))
+    n = flexion_axis(y, sagittal)
+    upper = rod_particles(y.upper, y.shoulder, y.elbow)
+    forearm = rod_particles(y.forearm, y.elbow, y.grip)
+    best = None
+    for sign in (1.0, -1.0):
+        trial = ArmLoop(shoulder, y.grip, n, a, b, sign, upper, forearm)
+        e = trial.elbow()
+        if not np.all(np.isfinite(e)):
+            raise ValueError("arm loop cannot close: shoulder too far from the grip")
+        dist = float(np.linalg.norm(e - y.elbow))
+        if best is None or dist < best[0]:
+            best = (dist, trial)
+    return best[1]
+
+
+def moving_particles(loop: ArmLoop, steer_rad: float, bench: dict):
+    """Masses and benchmark-frame positions of the three moving particles of both arms
+    (elbow, upper-arm COM, forearm COM; right arm first) at steer angle ``steer_rad``."""
+    out = []
+    for arm in (loop, loop.mirrored()):
+        h = grip_at_steer(arm.grip, steer_rad, bench)
+        s = arm.shoulder
+        e = arm.elbow(h)
+        mu1, mu2, mu3, cu = arm.upper
+        mf1, mf2, mf3, cf = arm.forearm
+        out += [(mu2 + mf1, e), (mu3, s + cu * (e - s)), (mf3, e + cf * (h - e))]
+    return out
+
+
+def fixed_parts(loop: ArmLoop) -> tuple[list[Part], list[Part]]:
+    """Point masses of both arms fixed in the rear frame (at S) and the front frame (at H)."""
+    zero = np.zeros((3, 3))
+    rear, front = [], []
+    for side in (1.0, -1.0):
+        mirror = np.array([1.0, side, 1.0])
+        rear.append(Part(loop.upper[0], loop.shoulder * mirror, zero))
+        front.append(Part(loop.forearm[1], loop.grip * mirror, zero))
+    return rear, front
+
+
+def symbol_values(loop: ArmLoop, bench: dict, moore: dict) -> dict[str, float]:
+    """Values of :data:`model.ARM_PARAMETERS` (Moore rear-frame coordinates from the rear hub,
+    grip in front-frame coordinates from SymBRiM's steer hub, ``d1`` along the rear frame x)."""
+    lam, r_r = bench["lam"], bench["rR"]
+
+    def to_rear(p):
+        dx, dz = p[0], p[2] + r_r
+        return np.array([dx * np.cos(lam) - dz * np.sin(lam), p[1],
+                         dx * np.sin(lam) + dz * np.cos(lam)])
+
+    s = to_rear(loop.shoulder)
+    h = to_rear(loop.grip) - np.array([moore["rear_frame_d1"], 0.0, 0.0])
+    n = to_rear(loop.normal) - to_rear(np.zeros(3))
+    mu1, mu2, mu3, cu = loop.upper
+    mf1, mf2, mf3, cf = loop.forearm
+    return {"arm_sx": s[0], "arm_sy": s[1], "arm_sz": s[2], "arm_hx": h[0], "arm_hy": h[1],
+            "arm_hz": h[2], "arm_nx": n[0], "arm_ny": n[1], "arm_nz": n[2], "arm_a": loop.a,
+            "arm_b": loop.b, "arm_cu": cu, "arm_cf": cf,
+            "arm_sign": loop.sign, "arm_m_elbow": mu2 + mf1, "arm_m_upper": mu3,
+            "arm_m_fore": mf3}
+
+
+def nominal_posture(arms: YeadonArms | None = None) -> dict[str, float]:
+    """The closed-form elbow at steer 0 and the original seat against Yeadon's elbow, m.
+
+    ``elbow_distance_m``: with the tilted flexion axis (the model; zero to round-off);
+    ``sagittal_gap_m``: how far the loop with the sagittal flexion axis is from closing
+    (``d - a - b'``, positive: it cannot close); the elbow's and the grip's lateral offsets from
+    the shoulder.
+    """
+    y = yeadon_arms() if arms is None else arms
+    loop = arm_loop(y.shoulder, y)
+    r = y.grip - y.shoulder
+    b_proj = np.sqrt(loop.b**2 - r[1] ** 2)
+    return {"elbow_distance_m": float(np.linalg.norm(loop.elbow() - y.elbow)),
+            "sagittal_gap_m": float(np.hypot(r[0], r[2]) - loop.a - b_proj),
+            "elbow_lateral_offset_m": float(y.elbow[1] - y.shoulder[1]),
+            "grip_lateral_offset_m": float(r[1]),
+            "flexion_axis_tilt_rad": float(np.arccos(loop.normal[1]))}
+
+
+def original_seat_model(model: str = "CF") -> params.LinearModel:
+    """Fig E.1: CF with the original 0.77 m seat tube + post (Sec 3.2.1, Appendix E).
+
+    The project's own CF linearised (legs fixed at crank angle 0, as the NT model) with the rider
+    without arms, shoulders included, *not* lowered: the hands stay on the handlebar, so the arm
+    loop closes with a more extended elbow than at the 0.72 m seat.
+    """
+    from . import parameters as nlp
+    from .numeric import NonlinearModel, benchmark_matrices
+
+    if model == "benchmark" or nlp.settings()["models"][model]["legs"] != "city":
+        raise ValueError(f"{model}: the seat was lowered on the city bicycle only (Sec 2.1.1)")
+    nl = NonlinearModel(nlp.legs_fixed(model, original_seat=True), nlp.model_options(model),
+                        arm_parameters=nlp.model_bodies(model, original_seat=True)[1])
+    mats = benchmark_matrices(nl)
+    return params.LinearModel(f"{model} (0.77 m seat)", *(mats[k] for k in
+                                                          ("M", "C1", "K0", "K2")),
+                              g=nl.bench["g"])

@@ -1,0 +1,191 @@
+"""The arm loops of model CF (thesis Sec 3.1.1.2-3.1.1.3, Fig 3.4; pedalrepro.nonlinear.arms).
+
+Expected values come from physics and independent calculations: the Yeadon posture of
+BicycleParameters (the loop must close on it), mass bookkeeping done by a second route, the
+kinetic energy of the arm particles from finite differences of the closed-form positions
+(independent of Kane's method), energy conservation and the generated Python code.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pedalrepro.nonlinear import arms, model, sweep
+from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.simulate import simulate
+
+NAMES = ("M", "C1", "K0", "K2")
+MOVING = ("arm_m_elbow", "arm_m_upper", "arm_m_fore")
+
+
+def _body(p: dict, b: str):
+    return p[f"m{b}"], np.array([p[f"x{b}"], 0.0, p[f"z{b}"]]), nlp._inertia(p, b)
+
+
+def _set(p: dict, b: str, part) -> dict:
+    m, com, i = part
+    out = dict(p)
+    out.update({f"m{b}": m, f"x{b}": com[0], f"z{b}": com[2], f"I{b}xx": i[0, 0],
+                f"I{b}yy": i[1, 1], f"I{b}zz": i[2, 2], f"I{b}xz": i[0, 2]})
+    return out
+
+
+def test_nominal_posture_closes_the_loop():
+    """At the original seat and zero steer the closed-form elbow is Yeadon's elbow (1e-6 m).
+
+    The sagittal-plane shoulder (flexion axis = trunk lateral axis) cannot close this loop: the
+    Yeadon arm is nearly straight and its elbow is out of the shoulder's sagittal plane.
+    """
+    nominal = arms.nominal_posture()
+    assert nominal["elbow_distance_m"] < 1e-6
+    assert nominal["sagittal_gap_m"] > 0.0
+    assert nominal["elbow_lateral_offset_m"] == pytest.approx(0.047, abs=1e-3)
+
+
+def test_rod_particles_reproduce_the_segment():
+    """Three particles: Yeadon mass, COM on the axis and transverse central inertia."""
+    y = arms.yeadon_arms()
+    for part, start, end in ((y.upper, y.shoulder, y.elbow), (y.forearm, y.elbow, y.grip)):
+        m1, m2, m3, c = arms.rod_particles(part, start, end)
+        assert min(m1, m2, m3) > 0
+        assert m1 + m2 + m3 == pytest.approx(part.mass, rel=1e-14)
+        pts = [start, end, start + c * (end - start)]
+        com = (m1 * pts[0] + m2 * pts[1] + m3 * pts[2]) / part.mass
+        np.testing.assert_allclose(com, part.com, atol=1e-12)
+        e = (end - start) / np.linalg.norm(end - start)
+        i_perp = sum(m * ((p - com) @ e) ** 2
+                     for m, p in zip((m1, m2, m3), pts, strict=True))
+        i_axial = e @ part.inertia @ e
+        assert i_perp == pytest.approx((np.trace(part.inertia) - i_axial) / 2, rel=1e-12)
+
+
+def _zero_arm_masses(bench: dict, arm_values: dict, loop) -> tuple[dict, dict]:
+    """Route A: the arm model's bodies with the shoulder/grip particles taken back out."""
+    rear, front = arms.fixed_parts(loop)
+    b = _set(bench, "B", nlp._subtract(_body(bench, "B"), [p.as_tuple() for p in rear]))
+    b = _set(b, "H", nlp._subtract(_body(b, "H"), [p.as_tuple() for p in front]))
+    return b, dict(arm_values) | dict.fromkeys(MOVING, 0.0)
+
+
+def test_massless_arms_equal_rigid_rider_without_arms():
+    """Arm masses zero: the arm model linearises (1e-9) to the plain Whipple model whose body B
+    is the rigid city rider (bicycle_rider: rider lowered with its arms) minus the lowered Yeadon
+    arm segments, the hands added to the front frame at the handlebar (a second route)."""
+    bench, values = nlp.model_bodies("CF")
+    loop = nlp.arm_loop("CF")
+    a_bench, a_values = _zero_arm_masses(bench, values, loop)
+    route_a = benchmark_matrices(NonlinearModel(a_bench, nlp.model_options("CF"),
+                                                arm_parameters=a_values))
+    rigid = nlp.bicycle_rider("CF")
+    drop = nlp.rider_drop_m("CF")
+    y = arms.yeadon_arms()
+    segments = [(p.mass, p.com + drop, p.inertia) for p in y.segments]
+    hand_l = (y.hand.mass, y.hand.com * [1, -1, 1], np.diag([1, -1, 1]) @ y.hand.inertia
+              @ np.diag([1, -1, 1]))
+    b = _set(rigid, "B", nlp._subtract(_body(rigid, "B"), segments))
+    b = _set(b, "H", nlp._combine([_body(b, "H"), y.hand.as_tuple(), hand_l]))
+    route_b = benchmark_matrices(NonlinearModel(b))
+    for k in NAMES:
+        np.testing.assert_allclose(route_a[k], route_b[k], rtol=1e-9, atol=1e-9, err_msg=k)
+
+
+def test_arm_mass_matrix_from_finite_differences_of_the_loop():
+    """M(CF) - M(CF, moving arm particles massless) = sum m J^T J over the six moving particles.
+
+    J = [dr/dphi, dr/ddelta]: at zero speed a roll rate turns everything about the ground line
+    (e_x x r), a steer rate moves the particles along the closed-form loop (central finite
+    differences of :func:`arms.moving_particles`, independent of Kane's method) and yaws the
+    rear frame about the rear contact at psi' = c cos(lam) / w delta' (trail; Meijaard et al.
+    2007). Tolerance 1e-6 relative: finite-difference error ~ (1e-5)^2.
+    """
+    bench, values = nlp.model_bodies("CF")
+    loop = nlp.arm_loop("CF")
+    opts = nlp.model_options("CF")
+    full = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=values))["M"]
+    massless = dict(values) | dict.fromkeys(MOVING, 0.0)
+    none = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=massless))["M"]
+    h = 1e-5
+    plus = arms.moving_particles(loop, h, bench)
+    minus = arms.moving_particles(loop, -h, bench)
+    k_yaw = bench["c"] * np.cos(bench["lam"]) / bench["w"]
+    expected = np.zeros((2, 2))
+    for (m, r), (_, rp), (_, rm) in zip(arms.moving_particles(loop, 0.0, bench), plus, minus,
+                                        strict=True):
+        j = np.column_stack([np.cross([1.0, 0, 0], r),
+                             (rp - rm) / (2 * h) + k_yaw * np.cross([0, 0, 1.0], r)])
+        expected += m * j.T @ j
+    np.testing.assert_allclose(full - none, expected, rtol=1e-6, atol=1e-9 * expected[1, 1])
+    assert expected[1, 1] > 0.1  # the arms add a large share of the steer inertia
+
+
+def test_energy_is_conserved_with_arms():
+    """Unforced CF (legs fixed, arm loops moving with the steer): total energy, which includes
+    the arm particles, is constant over 10 s (no dissipation, scleronomic constraints).
+
+    CF's capsize root is unstable at every speed (0.54 1/s at 10 m/s), so a small steer-rate
+    perturbation at 10 m/s grows into a large lean (about 0.7 rad) within the 10 s without
+    falling. DOP853 at rtol = atol = 1e-10: the drift stays below 1e-9 (measured ~2e-13).
+    """
+    nl = sweep.nt_model("CF")
+    x0 = nl.upright_state(10.0, steer_rate_rad_s=0.02)
+    sim = simulate(nl, 10.0, 10.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853",
+                   fall_roll_rad=1.0)
+    assert not sim.fell
+    e = np.array([nl.energy_J(t, sim.states[:, k]) for k, t in enumerate(sim.t_s)])
+    drift = np.max(np.abs(e - e[0])) / abs(e[0])
+    assert drift < 1e-9
+    assert np.max(np.abs(sim.roll_rad)) > 0.3  # far from the linear range
+    assert np.ptp(sim.states[2]) > 0.05  # the steer (and so the arms) moved
+
+
+def test_energy_expression_includes_the_arms():
+    """Energy of the arm model minus that with massless moving particles = their KE + PE."""
+    bench, values = nlp.model_bodies("CF")
+    loop = nlp.arm_loop("CF")
+    opts = nlp.model_options("CF")
+    with_arms = NonlinearModel(bench, opts, arm_parameters=values)
+    without = NonlinearModel(bench, opts, arm_parameters=dict(values) | dict.fromkeys(MOVING, 0.0))
+    x = with_arms.upright_state(0.0, steer_rate_rad_s=1.0)
+    h = 1e-6
+    k_yaw = bench["c"] * np.cos(bench["lam"]) / bench["w"]
+    ke = pe = 0.0
+    for (m, r), (_, rp), (_, rm) in zip(arms.moving_particles(loop, 0.0, bench),
+                                        arms.moving_particles(loop, h, bench),
+                                        arms.moving_particles(loop, -h, bench), strict=True):
+        v = (rp - rm) / (2 * h) + k_yaw * np.cross([0, 0, 1.0], r)
+        ke += 0.5 * m * v @ v
+        pe += -m * bench["g"] * r[2]  # z down
+    diff = with_arms.energy_J(0.0, x) - without.energy_J(0.0, x)
+    assert diff == pytest.approx(ke + pe, rel=1e-8)
+
+
+def test_compiled_rhs_with_arms_and_legs_equals_python():
+    """C right-hand side = generated Python, arms + moving legs, off-equilibrium (1e-10)."""
+    nl = sweep.np_model("CF", 2.0 * np.pi)
+    assert nl.options == model.ModelOptions(legs=True, arms=True)
+    if nl._lib is None:
+        pytest.skip("no C compiler: only the Python path exists")
+    x = np.array([0.1, nl.nominal_pitch_rad, 0.15, 0.3, -12.0, -0.4])
+    np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
+                               rtol=1e-10, atol=1e-12)
+
+
+def test_original_seat_model_is_the_own_cf_model_unlowered():
+    """Fig E.1 model: CF's own linearisation with the rider not lowered (hands on the bar)."""
+    cf77 = arms.original_seat_model("CF")
+    want = benchmark_matrices(sweep.nt_model("CF", original_seat=True))
+    for k in NAMES:
+        np.testing.assert_allclose(getattr(cf77, k), want[k], rtol=1e-12, err_msg=k)
+    low, high = nlp.arm_loop("CF"), nlp.arm_loop("CF", original_seat=True)
+    # the shoulders are 0.05 m higher along the seat tube; the grip does not move
+    assert np.linalg.norm(high.shoulder - low.shoulder) == pytest.approx(0.05, rel=1e-12)
+    np.testing.assert_array_equal(high.grip, low.grip)
+    # more extended elbow at the higher seat: the shoulder-grip distance grows
+    assert np.linalg.norm(high.grip - high.shoulder) > np.linalg.norm(low.grip - low.shoulder)
+
+
+def test_original_seat_only_for_the_city_bicycle():
+    with pytest.raises(ValueError, match="city bicycle"):
+        arms.original_seat_model("HS")
