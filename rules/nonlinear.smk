@@ -2,14 +2,15 @@
 # the symbolic models derived and compiled once (cached), their linearisations (benchmark vs
 # Meijaard 2007, the four models' bodies vs Appendix B, Fig E.1), the NT/NP time-solution sweeps
 # split by method, model and speed chunk, the report rows of evaluation points 1a, 1b, 2a,
-# PS vs NP, and fig_3_34. HS and CF are substitutes (pedalrepro.nonlinear.substitute).
+# PS vs NP, and fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
+# substitute (pedalrepro.nonlinear.substitute).
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
                      "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
                      "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
-                     "nonlinear/substitute") + [
+                     "nonlinear/substitute", "nonlinear/arms") + [
     f"{PKG}/nonlinear/rhs_driver.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
                         "data/parameters/legs.yaml"]
@@ -44,6 +45,7 @@ rule nonlinear_linearisation:
         checks=table("nonlinear_checks"),
         own=interm("nonlinear/linearisation_own.npz"),
         eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
+        eigen_cf_own=interm("nonlinear/eigen_cf_own.npz"),
     params:
         models=NONLINEAR_MODELS,
     log:
@@ -106,7 +108,7 @@ rule nonlinear_report:
         appendix_b=table("linearisation_vs_appendix_b"),
         own=interm("nonlinear/linearisation_own.npz"),
         eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("eigen/CF.npz"),
+        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
               for method in ("NT", "NP")],
         meijaard="data/published/meijaard2007.yaml",
@@ -131,7 +133,7 @@ rule nonlinear_figure:
         maps=interm("nonlinear/rd_maps.npz"),
         appendix_b=table("linearisation_vs_appendix_b"),
         eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("eigen/CF.npz"),
+        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
     output:
         fig_3_34=figure("fig_3_34"),
         appendix_b=figure("nonlinear_linearisation_vs_appendix_b"),

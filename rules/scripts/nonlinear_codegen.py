@@ -12,8 +12,9 @@ from pedalrepro.nonlinear import codegen, model
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 lines = []
-for legs in (False, True):
-    options = model.ModelOptions(legs=legs)
+for options in [model.ModelOptions(legs=legs, arms=arms) for arms in (False, True)
+                for legs in (False, True)]:
+    # plain Whipple (benchmark, HS, HR, CR) and with CF's arm loops, with and without legs
     start = time.perf_counter()
     py = codegen.generated_source(options)
     so = codegen.compiled_library(options)

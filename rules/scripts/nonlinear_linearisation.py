@@ -1,15 +1,17 @@
 """Snakemake script: linearise the non-linear models (Sec 3.1.1.3 verification step).
 
 benchmark_linearisation.csv: M, C1, K0, K2 of the non-linear benchmark model (16 rows).
-linearisation_vs_appendix_b.csv: the project's linearisations beside thesis Appendix B. For HR
-and CR the model's own; for the substitutes HS and CF the rigid-rider body they are built on,
-before the correction (``compared`` column), which is what the project's own bodies give.
+linearisation_vs_appendix_b.csv: the project's linearisations beside thesis Appendix B. For HR,
+CR and CF (built with its arm loops) the model's own; for the substitute HS the rigid-rider body
+it is built on, before the correction (``compared`` column), which is what the project's own
+bodies give.
 nonlinear_checks.csv: the linearisation and energy checks as numbers for the book, including the
-substitutes' corrected linearisation against Appendix B (equal by construction: a code check).
+substitute's corrected linearisation against Appendix B (equal by construction: a code check)
+and the energy drift of an unforced CF run with its arm loops.
 linearisation_own.npz: the matrices of every non-linear model as simulated (for PS/LA of its
 own linear limit in the report).
-eigen_cf_original_seat.npz: Fig E.1, CF with the original 0.77 m seat post (eigen-sweep format
-of linear_eigen.py).
+eigen_cf_own.npz, eigen_cf_original_seat.npz: Fig E.1, the project's own CF with the 0.72 m and
+the original 0.77 m seat post (eigen-sweep format of linear_eigen.py).
 """
 
 import sys
@@ -19,7 +21,7 @@ import pandas as pd
 import yaml
 
 from pedalrepro import linear, params, response
-from pedalrepro.nonlinear import substitute, sweep
+from pedalrepro.nonlinear import arms, substitute, sweep
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.simulate import simulate
 
@@ -60,16 +62,25 @@ for name in snakemake.params.models:
             "corrected substitute vs Appendix B, 16 entries (equal by construction)"))
 pd.DataFrame(records, columns=["model", "compared", "matrix", "i", "j", "project", "appendix_b",
                                "rel_diff"]).to_csv(snakemake.output.appendix_b, index=False)
-# Fig E.1: CF with the original seat post, eigenvalues on the linear eigen grid
-cf77 = substitute.original_seat_model("CF")
+# Fig E.1: the project's CF with the 0.72 m and the original 0.77 m seat post, eigenvalues on
+# the linear eigen grid
 speeds = response.eigen_speeds(snakemake.config)
-e77 = linear.eigen_sweep(cf77, speeds)
-s77 = linear.summarise(cf77, speeds)
-np.savez(snakemake.output.eigen_e_1, speed_m_s=speeds, eigenvalues=e77.eigenvalues,
-         names=np.array(e77.names), weave_frequency_rad_s=e77.weave_frequency_rad_s(),
-         stable_ranges_m_s=np.array(linear.stable_ranges(cf77, speeds)).reshape(-1, 2),
-         weave_speed_m_s=np.nan if s77.weave_speed_m_s is None else s77.weave_speed_m_s,
-         note=s77.note, **{k: getattr(cf77, k) for k in NAMES})
+
+
+def save_eigen(path, lin):
+    e = linear.eigen_sweep(lin, speeds)
+    s = linear.summarise(lin, speeds)
+    np.savez(path, speed_m_s=speeds, eigenvalues=e.eigenvalues,
+             names=np.array(e.names), weave_frequency_rad_s=e.weave_frequency_rad_s(),
+             stable_ranges_m_s=np.array(linear.stable_ranges(lin, speeds)).reshape(-1, 2),
+             weave_speed_m_s=np.nan if s.weave_speed_m_s is None else s.weave_speed_m_s,
+             note=s.note, **{k: getattr(lin, k) for k in NAMES})
+
+
+cf72 = own["CF"] if "CF" in own else benchmark_matrices(sweep.nt_model("CF"))
+save_eigen(snakemake.output.eigen_cf_own, params.LinearModel(
+    "CF (own, 0.72 m seat)", *(cf72[k] for k in NAMES), g=params.appendix_b_model("CF").g))
+save_eigen(snakemake.output.eigen_e_1, arms.original_seat_model("CF"))
 # Energy check (no dissipation, rolling without slip): unforced benchmark run from a stable
 # state at 5 m/s with a roll-rate perturbation, 15 s, rtol = atol = 1e-10 (DOP853).
 nl = NonlinearModel(params.benchmark_parameters("benchmark"))
@@ -77,11 +88,28 @@ x0 = nl.upright_state(5.0, roll_rate_rad_s=0.5)
 sim = simulate(nl, 5.0, 15.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853")
 energy = np.array([nl.energy_J(t, sim.states[:, k]) for k, t in enumerate(sim.t_s)])
 drift = float(np.max(np.abs(energy - energy[0])) / abs(energy[0]))
+# the same with CF's arm loops moving with the steer (legs fixed), 10 s
+cf = sweep.nt_model("CF")
+sim = simulate(cf, 10.0, 10.0, 20.0, x0=cf.upright_state(10.0, steer_rate_rad_s=0.02),
+               rtol=1e-10, atol=1e-10, method="DOP853")
+e_cf = np.array([cf.energy_J(t, sim.states[:, k]) for k, t in enumerate(sim.t_s)])
+drift_cf = float(np.max(np.abs(e_cf - e_cf[0])) / abs(e_cf[0]))
+nominal = arms.nominal_posture()
 pd.DataFrame([
     ("benchmark_linearisation_max_abs_diff", max(
         abs(v - meijaard[k][i][j]) for k, i, j, v in rows(bench)), "Meijaard 2007, 16 entries"),
     ("energy_relative_drift", drift, "unforced benchmark, 5 m/s, roll rate 0.5 rad/s, 15 s"),
     ("energy_J", float(energy[0]), "total mechanical energy of that run"),
+    ("energy_relative_drift_CF_arms", drift_cf,
+     "unforced CF with arm loops (legs fixed), 10 m/s, steer rate 0.02 rad/s, 10 s"),
+    ("arm_elbow_distance_m", nominal["elbow_distance_m"],
+     "closed-form elbow vs Yeadon's elbow, original seat, steer 0"),
+    ("arm_sagittal_gap_m", nominal["sagittal_gap_m"],
+     "how far a sagittal-plane shoulder misses closing Yeadon's arm loop"),
+    ("arm_elbow_lateral_offset_m", nominal["elbow_lateral_offset_m"],
+     "Yeadon's elbow outside the shoulder's sagittal plane"),
+    ("arm_flexion_axis_tilt_deg", float(np.degrees(nominal["flexion_axis_tilt_rad"])),
+     "shoulder flexion axis tilted from the trunk's lateral axis (Yeadon's adduction)"),
 ] + [(f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[7] for r in records if r[0] == m])),
       "largest relative difference of the 16 entries (exact zeros excluded)")
      for m in snakemake.params.models] + substitute_checks,

@@ -49,8 +49,9 @@ def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
 def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     """Relative difference of the project's linearisations from thesis Appendix B.
 
-    ``table``: ``linearisation_vs_appendix_b.csv``. HR, CR: the models' own linearisation; HS,
-    CF: the rigid-rider body of the substitute before its correction (``compared`` column).
+    ``table``: ``linearisation_vs_appendix_b.csv``. HR, CR, CF (arm loops): the models' own
+    linearisation; HS: the rigid-rider body of the substitute before its correction
+    (``compared`` column).
     """
     fig, ax = plt.subplots(figsize=(7, 3.2))
     labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]
@@ -70,17 +71,18 @@ def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndar
     Parameters
     ----------
     cf
-        Eigen sweep of Appendix B's CF (``results/intermediate/eigen/CF.npz``).
+        Eigen sweep of the project's own CF with its arm loops, seat 0.72 m
+        (``results/intermediate/nonlinear/eigen_cf_own.npz``).
     cf_original_seat
-        Eigen sweep of :func:`pedalrepro.nonlinear.substitute.original_seat_model`
-        (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): Appendix B's CF plus
-        the seat-height change of the project's city rigid-rider body.
+        Eigen sweep of :func:`pedalrepro.nonlinear.arms.original_seat_model`
+        (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): the same model with the
+        rider (shoulders included) not lowered, the hands on the handlebar.
     """
     from .linear import eigen_panel
 
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.8), sharey=True)
-    eigen_panel(axes[0], cf, "CF, seat 0.72 m (Appendix B)")
-    eigen_panel(axes[1], cf_original_seat, "CF, seat 0.77 m (App. B + rigid-rider change)")
+    eigen_panel(axes[0], cf, "CF (own model, arm loops), seat 0.72 m")
+    eigen_panel(axes[1], cf_original_seat, "CF (own model, arm loops), seat 0.77 m")
     axes[0].legend(loc="lower left", fontsize=7)
     fig.tight_layout()
     return fig
