@@ -14,7 +14,7 @@ import pytest
 from pedalrepro.nonlinear import arms, model, sweep
 from pedalrepro.nonlinear import parameters as nlp
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate
+from pedalrepro.simulate import simulate, simulate_compiled
 
 NAMES = ("M", "C1", "K0", "K2")
 MOVING = ("arm_m_elbow", "arm_m_upper", "arm_m_fore")
@@ -42,6 +42,46 @@ def test_nominal_posture_closes_the_loop():
     assert nominal["elbow_distance_m"] < 1e-6
     assert nominal["sagittal_gap_m"] > 0.0
     assert nominal["elbow_lateral_offset_m"] == pytest.approx(0.047, abs=1e-3)
+
+
+@pytest.mark.parametrize("original_seat", [False, True])
+def test_closed_form_keeps_the_loop_closed_at_any_steer(original_seat):
+    """|E - S| = a, |E - H(delta)| = b and E in the shoulder's flexion plane (1e-12 m) for
+    steer angles within the arms' reach, both arms; beyond it the loop cannot close (NaN).
+
+    Reach: 0.41 rad at the 0.72 m seat; 0.046 rad at 0.77 m, where Yeadon's arm is nearly
+    straight (elbow 14 deg).
+    """
+    loop = nlp.arm_loop("CF", original_seat)
+    bench = nlp.model_bodies("CF", original_seat)[0]
+    reach = arms.steer_reach_rad(loop, bench)
+    for arm in (loop, loop.mirrored()):
+        for delta in reach * np.array([-0.999, -0.5, 0.0, 0.3, 0.999]):
+            h = arms.grip_at_steer(arm.grip, delta, bench)
+            e = arm.elbow(h)
+            assert np.linalg.norm(e - arm.shoulder) == pytest.approx(arm.a, abs=1e-12)
+            assert np.linalg.norm(h - e) == pytest.approx(arm.b, abs=1e-12)
+            assert arm.normal @ (e - arm.shoulder) == pytest.approx(0.0, abs=1e-12)
+    with np.errstate(invalid="ignore"):
+        beyond = loop.elbow(arms.grip_at_steer(loop.grip, -1.01 * reach, bench))
+        beyond_l = loop.mirrored().elbow(arms.grip_at_steer(loop.mirrored().grip, 1.01 * reach,
+                                                            bench))
+    assert not (np.all(np.isfinite(beyond)) and np.all(np.isfinite(beyond_l)))
+    assert reach == pytest.approx(0.046 if original_seat else 0.413, abs=2e-3)
+
+
+def test_runs_end_at_the_arms_reach():
+    """A CF run that steers beyond the arms' reach ends like a fall at the steer limit, in the
+    compiled and in the solve_ivp integrator, instead of failing on a non-finite state."""
+    nl = sweep.nt_model("CF")
+    assert nl.steer_limit_rad == pytest.approx(0.95 * 0.413, abs=2e-3)
+    x0 = nl.upright_state(1.0, steer_rate_rad_s=3.0)
+    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0),
+                simulate_compiled(nl, 1.0, 5.0, 100.0, x0=x0)):
+        assert sim.fell and sim.t_end_s < 5.0
+        last = np.flatnonzero(np.isfinite(sim.steer_rad))[-1]
+        assert abs(sim.steer_rad[last]) <= nl.steer_limit_rad + 1e-9
+        assert abs(sim.roll_rad[last]) < 1.0
 
 
 def test_rod_particles_reproduce_the_segment():

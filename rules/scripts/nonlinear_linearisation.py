@@ -22,6 +22,7 @@ import yaml
 
 from pedalrepro import linear, params, response
 from pedalrepro.nonlinear import arms, substitute, sweep
+from pedalrepro.nonlinear import parameters as nlp
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.simulate import simulate
 
@@ -95,6 +96,8 @@ sim = simulate(cf, 10.0, 10.0, 20.0, x0=cf.upright_state(10.0, steer_rate_rad_s=
 e_cf = np.array([cf.energy_J(t, sim.states[:, k]) for k, t in enumerate(sim.t_s)])
 drift_cf = float(np.max(np.abs(e_cf - e_cf[0])) / abs(e_cf[0]))
 nominal = arms.nominal_posture()
+reach = {seat: arms.steer_reach_rad(nlp.arm_loop("CF", seat), nlp.model_bodies("CF", seat)[0])
+         for seat in (False, True)}
 pd.DataFrame([
     ("benchmark_linearisation_max_abs_diff", max(
         abs(v - meijaard[k][i][j]) for k, i, j, v in rows(bench)), "Meijaard 2007, 16 entries"),
@@ -108,6 +111,10 @@ pd.DataFrame([
      "how far a sagittal-plane shoulder misses closing Yeadon's arm loop"),
     ("arm_elbow_lateral_offset_m", nominal["elbow_lateral_offset_m"],
      "Yeadon's elbow outside the shoulder's sagittal plane"),
+    ("arm_steer_reach_rad", reach[False], "|steer| up to which CF's arms reach the grips, 0.72 m"),
+    ("arm_steer_reach_original_seat_rad", reach[True], "the same at the original 0.77 m seat"),
+    ("arm_steer_limit_rad", float(cf.steer_limit_rad),
+     "runs of CF end like a fall at this |steer| (arms.STEER_REACH_FRACTION of the reach)"),
     ("arm_flexion_axis_tilt_deg", float(np.degrees(nominal["flexion_axis_tilt_rad"])),
      "shoulder flexion axis tilted from the trunk's lateral axis (Yeadon's adduction)"),
 ] + [(f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[7] for r in records if r[0] == m])),

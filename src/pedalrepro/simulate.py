@@ -104,7 +104,8 @@ def simulate(
     rtol, atol
         Local error tolerances (SPACAR: :data:`SPACAR_RTOL`, :data:`SPACAR_ATOL`).
     fall_roll_rad
-        Terminal event: the run stops when ``|roll|`` reaches this angle.
+        Terminal event: the run stops when ``|roll|`` reaches this angle (and, for a model with
+        arm loops, when ``|steer|`` reaches ``model.steer_limit_rad``: the arms' reach).
     rhs
         Optional replacement ``f(t, x)`` for ``model.rhs`` with the torque applied.
 
@@ -137,8 +138,18 @@ def simulate(
 
     fall.terminal = True
     fall.direction = -1
+    events = [fall]
+    steer_limit = float(getattr(model, "steer_limit_rad", np.inf))
+    if np.isfinite(steer_limit):
+        # arm loops (model CF): beyond this steer angle the arms cannot reach the handlebar
+        def reach(t, x):
+            return steer_limit - abs(x[2])
+
+        reach.terminal = True
+        reach.direction = -1
+        events.append(reach)
     sol = solve_ivp(guarded, (0.0, t_s[-1]), x0, method=method, t_eval=t_s, rtol=rtol,
-                    atol=atol, events=fall)
+                    atol=atol, events=events)
     if sol.status == -1:
         raise SimulationError(f"integration failed at speed {speed_m_s} m/s: {sol.message}")
     fell = sol.status == 1
@@ -146,7 +157,7 @@ def simulate(
     states[:, : sol.y.shape[1]] = sol.y
     if not np.all(np.isfinite(sol.y)):
         raise SimulationError(f"non-finite states at speed {speed_m_s} m/s")
-    t_end = float(sol.t_events[0][0]) if fell else float(t_s[-1])
+    t_end = (float(min(e[0] for e in sol.t_events if len(e))) if fell else float(t_s[-1]))
     steer = states[2].copy() if len(x0) > 2 else np.full(n_t, np.nan)
     return Simulation(t_s, states[0].copy(), steer, states, fell, t_end, sol.nfev)
 
@@ -192,7 +203,8 @@ def simulate_compiled(
     class Forcing(ctypes.Structure):
         _fields_ = [("n_harm", ci), ("harm_w", dp), ("roll_re", dp), ("roll_im", dp),
                     ("steer_re", dp), ("steer_im", dp), ("n_spec", ci), ("n_four", ci),
-                    ("omega", cd), ("four_re", dp), ("four_im", dp), ("slope", dp), ("p", dp)]
+                    ("omega", cd), ("four_re", dp), ("four_im", dp), ("slope", dp), ("p", dp),
+                    ("steer_limit", cd)]
 
     keep = []  # arrays referenced by pointer must outlive the call
 
@@ -216,6 +228,7 @@ def simulate_compiled(
         fc.four_re, fc.four_im = ptr(spec.coef.real), ptr(spec.coef.imag)
         fc.slope = ptr(spec.slope)
     fc.p = ptr(model._p_arr)
+    fc.steer_limit = float(getattr(model, "steer_limit_rad", np.inf))
     lib.integrate.argtypes = [ctypes.POINTER(Forcing), dp, dp, ci, cd, cd, cd, dp,
                               ctypes.POINTER(cd), ctypes.POINTER(ctypes.c_long)]
     lib.integrate.restype = ci

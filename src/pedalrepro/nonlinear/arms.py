@@ -234,6 +234,31 @@ def moving_particles(loop: ArmLoop, steer_rad: float, bench: dict):
     return out
 
 
+#: Runs of a model with arm loops end (like a fall) at this fraction of the steer angle at which
+#: the outer arm is fully stretched: near full stretch the elbow speed per steer rate grows
+#: without bound (ASSUMPTION, data/parameters/nonlinear_models.yaml).
+STEER_REACH_FRACTION = 0.95
+
+
+def steer_reach_rad(loop: ArmLoop, bench: dict) -> float:
+    """Largest |steer| (rad) at which both arms still reach the grips (bisection, 1e-12)."""
+
+    def closes(delta: float) -> bool:
+        with np.errstate(invalid="ignore"):  # sqrt of a negative number: the loop is open
+            return all(np.all(np.isfinite(arm.elbow(grip_at_steer(arm.grip, sgn * delta, bench))))
+                       for arm in (loop, loop.mirrored()) for sgn in (1.0, -1.0))
+
+    if not closes(0.0):
+        raise ValueError("arm loop does not close at zero steer")
+    lo, hi = 0.0, np.pi / 2
+    if closes(hi):
+        return hi
+    while hi - lo > 1e-12:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if closes(mid) else (lo, mid)
+    return lo
+
+
 def fixed_parts(loop: ArmLoop) -> tuple[list[Part], list[Part]]:
     """Point masses of both arms fixed in the rear frame (at S) and the front frame (at H)."""
     zero = np.zeros((3, 3))

@@ -115,6 +115,9 @@ class NonlinearModel:
     arm_parameters
         With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
         (:func:`pedalrepro.nonlinear.parameters.model_bodies`).
+    steer_limit_rad
+        Runs end like a fall when ``|steer|`` reaches this angle (arm loops: beyond it the arms
+        cannot reach the handlebar, :func:`pedalrepro.nonlinear.arms.steer_reach_rad`).
     """
 
     bench: dict[str, float]
@@ -123,6 +126,7 @@ class NonlinearModel:
     spec: Callable[[float], np.ndarray] | None = None
     linear_correction: Mapping[str, np.ndarray] | None = None
     arm_parameters: dict[str, float] = field(default_factory=dict)
+    steer_limit_rad: float = float("inf")
 
     compiled: bool = True
 

@@ -207,6 +207,21 @@ def arm_loop(model: str, original_seat: bool = False):
     return _bicycle_rider(model, original_seat, True)[1]
 
 
+def steer_limit_rad(model: str, original_seat: bool = False) -> float:
+    """Steer angle at which a run of the model ends like a fall (inf without arm loops).
+
+    With arm loops: :data:`arms.STEER_REACH_FRACTION` of the steer angle at which an arm is
+    fully stretched (:func:`arms.steer_reach_rad`).
+    """
+    if not has_arms(model):
+        return float("inf")
+    from . import arms as _arms
+
+    bench = model_bodies(model, original_seat)[0]
+    return _arms.STEER_REACH_FRACTION * _arms.steer_reach_rad(arm_loop(model, original_seat),
+                                                              bench)
+
+
 def model_options(model: str, legs: bool = False) -> _model.ModelOptions:
     """The symbolic model of ``model`` (arm loops for CF), with or without moving legs."""
     return _model.ModelOptions(legs=legs, arms=has_arms(model))

@@ -75,6 +75,7 @@ typedef struct {
     int n_spec; int n_four; double omega; const double *four_re; const double *four_im;
     const double *slope;                                       /* spec: n_spec/3 signals */
     const double *p;
+    double steer_limit;           /* |steer| at which the run ends like a fall (arm reach) */
 } forcing_t;
 
 static int eval_f(const forcing_t *fc, double t, const double *x, double *dx) {
@@ -167,15 +168,15 @@ int integrate(const forcing_t *fc, const double *x0, const double *t_out, int n_
             continue;
         }
         double t1 = t + h;
-        /* fall event between t and t1 */
-        int fell = fabs(yn[0]) >= fall;
+        /* fall event between t and t1 (or the arms' reach: |steer| = steer_limit) */
+        int fell = fabs(yn[0]) >= fall || fabs(yn[2]) >= fc->steer_limit;
         double t_stop = t1;
         if (fell) {
             double lo = t, hi = t1;
             for (int it = 0; it < 60; it++) {
                 double mid = 0.5 * (lo + hi);
                 hermite(t, t1, y, yn, f0, k7, mid, yi);
-                if (fabs(yi[0]) >= fall) hi = mid; else lo = mid;
+                if (fabs(yi[0]) >= fall || fabs(yi[2]) >= fc->steer_limit) hi = mid; else lo = mid;
             }
             t_stop = hi;
         }

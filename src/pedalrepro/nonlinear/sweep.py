@@ -50,7 +50,8 @@ def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
     """
     return NonlinearModel(nlp.legs_fixed(name, original_seat), nlp.model_options(name),
                           linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name, original_seat)[1])
+                          arm_parameters=nlp.model_bodies(name, original_seat)[1],
+                          steer_limit_rad=nlp.steer_limit_rad(name, original_seat))
 
 
 def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
@@ -58,7 +59,8 @@ def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
     leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
     return NonlinearModel(nlp.without_legs(name, mean), nlp.model_options(name, legs=True),
                           leg_params, spec, linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name)[1])
+                          arm_parameters=nlp.model_bodies(name)[1],
+                          steer_limit_rad=nlp.steer_limit_rad(name))
 
 
 def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,
