@@ -1,14 +1,15 @@
 """Speed of the non-linear time solutions (Sec 3.1.2.1): one 180 s NP run and the full sweep.
 
-    python scripts/bench_nonlinear.py [--sample-stride 5]
+    python scripts/bench_nonlinear.py [--sample-stride 5] [--single-only] [--models HR CF]
 
 Measures (thesis profile: 180 s at 100 Hz, config/config.yaml tolerances):
-1. one 180 s NP run of HR at 6 m/s, 6 rad/s: compiled whole-run RK45 (the sweep's path), and
-   solve_ivp with the compiled right-hand side (the reference path), at the default and at the
-   thesis's SPACAR tolerances;
+1. one 180 s NP run of each of ``--models`` (default HR and CF, the model with arm loops) at
+   6 m/s, 6 rad/s: compiled whole-run RK45 (the sweep's path), and for HR solve_ivp with the
+   compiled right-hand side (the reference path), at the default and at the thesis's SPACAR
+   tolerances;
 2. the full NT + NP sweep (4 models x 676 points x 2 methods) with 2 workers, extrapolated from
    runs on a sub-grid (every ``stride``-th speed and cadence) of the thesis grid for the models
-   of config ``nonlinear.models`` (HS and CF are substitutes of the same size as HR and CR).
+   of config ``nonlinear.models`` (HS is a substitute of the size of HR; CF carries arm loops).
    The measured full sweep is Snakemake's own benchmark files (results/benchmarks/nonlinear_*).
 Nothing is written; the numbers are printed.
 """
@@ -34,24 +35,30 @@ def timed(fn, *args, **kwargs):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sample-stride", type=int, default=5)
+    ap.add_argument("--single-only", action="store_true", help="skip the sub-grid sweep")
+    ap.add_argument("--models", nargs="+", default=["HR", "CF"])
     args = ap.parse_args()
     cfg = config.load()
     settings = sweep.RunSettings.from_config(cfg)
     spacar = sweep.RunSettings(settings.duration_s, settings.sample_rate_hz, SPACAR_RTOL,
                                SPACAR_ATOL, settings.fall_roll_rad)
-    h = response.forcing("HR", cfg)
-    sweep.np_model("HR", 6.0)  # build/load the cached code outside the timings
     print(f"thesis profile: {settings.duration_s:g} s at {settings.sample_rate_hz:g} Hz, "
           f"rtol {settings.rtol:g}, atol {settings.atol:g}")
-    for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
-        sim, dt = timed(sweep.run, "NP", "HR", 6.0, 6.0, h, s)
-        print(f"one 180 s NP run (HR, 6 m/s, 6 rad/s), compiled RK45, {label}: {dt:.3f} s "
-              f"({sim.n_rhs} rhs calls, fell={sim.fell})")
+    for name in args.models:
+        h = response.forcing(name, cfg)
+        sweep.np_model(name, 6.0)  # build/load the cached code outside the timings
+        for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
+            sim, dt = timed(sweep.run, "NP", name, 6.0, 6.0, h, s)
+            print(f"one 180 s NP run ({name}, 6 m/s, 6 rad/s), compiled RK45, {label}: "
+                  f"{dt:.3f} s ({sim.n_rhs} rhs calls, {dt / sim.n_rhs * 1e6:.1f} us/call, "
+                  f"fell={sim.fell} at {sim.t_end_s:.1f} s)")
     nl = sweep.np_model("HR", 6.0)
     sim, dt = timed(simulate, nl, 6.0, settings.duration_s, settings.sample_rate_hz,
                     rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
     print(f"same run with scipy solve_ivp(RK45) + compiled right-hand side: {dt:.2f} s "
           f"({sim.n_rhs} rhs calls)")
+    if args.single_only:
+        return
 
     v, w = response.time_grid(cfg)
     # zero cadence needs no run (no forcing): sample and count only the forced points
