@@ -1,4 +1,4 @@
-"""Snakemake script: derive the non-linear models and build their code once (cached on disk).
+"""Snakemake script: derive one non-linear model variant and build its code once (cached).
 
 Later jobs load the generated Python module and the compiled library from the cache
 (``pedalrepro.nonlinear.codegen.cache_dir()``); this job only makes sure they exist before the
@@ -11,14 +11,13 @@ import time
 from pedalrepro.nonlinear import codegen, model
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-lines = []
-for options in [model.ModelOptions(legs=legs, arms=arms) for arms in (False, True)
-                for legs in (False, True)]:
-    # plain Whipple (benchmark, HS, HR, CR) and with CF's arm loops, with and without legs
-    start = time.perf_counter()
-    py = codegen.generated_source(options)
-    so = codegen.compiled_library(options)
-    lines.append(f"{options.key()}: {py} {so} ({time.perf_counter() - start:.1f} s)")
+# plain Whipple (benchmark, HS, HR, CR) and with CF's arm loops, with and without legs
+variant = snakemake.wildcards.variant
+options = model.ModelOptions(legs="legs" in variant, arms="arms" in variant)
+start = time.perf_counter()
+py = codegen.generated_source(options)
+so = codegen.compiled_library(options)
+line = f"{options.key()}: {py} {so} ({time.perf_counter() - start:.1f} s)"
 with open(snakemake.output[0], "w") as fh:
-    fh.write("\n".join(lines) + "\n")
-print("\n".join(lines), file=sys.stderr)
+    fh.write(line + "\n")
+print(line, file=sys.stderr)
