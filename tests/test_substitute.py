@@ -46,18 +46,6 @@ def test_correction_adds_exactly_to_the_benchmark():
     assert_matrices_equal(corrected, {k: plain[k] + corr[k] for k in NAMES})
 
 
-def test_compiled_substitute_with_moving_legs_equals_python():
-    """The C right-hand side carries the correction terms (NP substitute, off-equilibrium)."""
-    nl = sweep.np_model("HS", 2.0 * np.pi)
-    if nl._lib is None:
-        pytest.skip("no C compiler: only the Python path exists")
-    assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
-               if n.startswith("lc_"))
-    x = np.array([0.1, nl.nominal_pitch_rad, 0.05, 0.3, -12.0, -0.2])
-    np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
-                               rtol=1e-10, atol=1e-12)
-
-
 def test_models_built_from_their_bodies_have_no_correction():
     assert substitute.linear_correction("HR") is None
     assert substitute.linear_correction("CR") is None

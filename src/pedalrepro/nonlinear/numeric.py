@@ -233,6 +233,15 @@ class NonlinearModel:
         q, u = self.speeds(x, s)
         return float(self._code.energy(q, list(u), self.p, s))
 
+    def energy_drift(self, t_s, states) -> tuple[float, np.ndarray]:
+        """Largest relative change of the total energy over a run, and the energies (J).
+
+        ``t_s`` (n,) and ``states`` (6, n) as in :class:`pedalrepro.simulate.Simulation`. With no
+        dissipation and scleronomic constraints the energy is constant (Sec 3.1.1.3 check).
+        """
+        energy = np.array([self.energy_J(t, states[:, k]) for k, t in enumerate(t_s)])
+        return float(np.max(np.abs(energy - energy[0])) / abs(energy[0])), energy
+
     # -- linearisation ------------------------------------------------------------------------
     def _complex_rhs(self, x, torque):
         ud, u = self.accelerations(0.0, x, torque, complex_step=True)
