@@ -80,11 +80,10 @@ class YeadonArms:
 
 
 def _combine(parts) -> Part:
-    m = sum(p.mass for p in parts)
-    com = sum(p.mass * p.com for p in parts) / m
-    inertia = sum(p.inertia + p.mass * ((p.com - com) @ (p.com - com) * np.eye(3)
-                                        - np.outer(p.com - com, p.com - com)) for p in parts)
-    return Part(m, com, inertia)
+    """One part from several (:func:`pedalrepro.nonlinear.parameters._combine`)."""
+    from .parameters import _combine as combine
+
+    return Part(*combine([p.as_tuple() for p in parts]))
 
 
 @cache
@@ -319,12 +318,12 @@ def original_seat_model(model: str = "CF") -> params.LinearModel:
     loop closes with a more extended elbow than at the 0.72 m seat.
     """
     from . import parameters as nlp
-    from .numeric import NonlinearModel, benchmark_matrices
+    from .numeric import benchmark_matrices
+    from .sweep import nt_model
 
     if model == "benchmark" or nlp.settings()["models"][model]["legs"] != "city":
         raise ValueError(f"{model}: the seat was lowered on the city bicycle only (Sec 2.1.1)")
-    nl = NonlinearModel(nlp.legs_fixed(model, original_seat=True), nlp.model_options(model),
-                        arm_parameters=nlp.model_bodies(model, original_seat=True)[1])
+    nl = nt_model(model, original_seat=True)
     mats = benchmark_matrices(nl)
     return params.LinearModel(f"{model} (0.77 m seat)", *(mats[k] for k in
                                                           ("M", "C1", "K0", "K2")),

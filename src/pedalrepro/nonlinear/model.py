@@ -125,9 +125,9 @@ def _add_linear_correction(M: sm.Matrix, F: sm.Matrix, q_s, u_s, g: sm.Symbol):
     """Add the terms ``dM q'' + v dC1 q' + (g dK0 + v^2 dK2) q`` to the roll and steer equations.
 
     ``q = [roll, steer]`` and the ``d`` matrices are the benchmark-form (Eq 3.1) parameters
-    ``lc_*``. They are zero for every model built from its own bodies; the substitute models HS
-    and CF (no closed arm loops here, see ``data/parameters/nonlinear_models.yaml``) set them so
-    that the linearisation equals the thesis's Appendix B matrices exactly. Roll and steer rates
+    ``lc_*``. They are zero for every model built from its own bodies; the substitute model HS
+    (no closed arm loops, see ``data/parameters/nonlinear_models.yaml``) sets them so that its
+    linearisation equals the thesis's Appendix B matrices exactly. Roll and steer rates
     are independent speeds of the Kane equations (rows ``ROLL``, ``STEER``), so the terms enter
     the reduced roll-steer equations unchanged; ``v = -r_R u6`` is the actual forward speed.
     """

@@ -331,14 +331,7 @@ def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
 def without_legs(model: str, mean_parts, original_seat: bool = False) -> dict[str, float]:
     """Body B of :func:`model_bodies` with the revolution-averaged leg bodies removed."""
     bench = model_bodies(model, original_seat)[0]
-    m, com, inertia = _body_b(bench)
-    m_l = sum(p[0] for p in mean_parts)
-    com_l = sum(p[0] * p[1] for p in mean_parts) / m_l
-    i_l = sum(p[2] + _parallel(p[0], p[1] - com_l) for p in mean_parts)
-    m_rest = m - m_l
-    com_rest = (m * com - m_l * com_l) / m_rest
-    i_rest = inertia - i_l - _parallel(m_l, com_l - com) - _parallel(m_rest, com_rest - com)
-    return _set_body_b(bench, m_rest, com_rest, i_rest)
+    return _set_body_b(bench, *_subtract(_body_b(bench), list(mean_parts)))
 
 
 def legs_fixed(model: str, original_seat: bool = False) -> dict[str, float]:
