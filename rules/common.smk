@@ -16,6 +16,11 @@ os.environ.update(PEDALREPRO_RESULTS=str(Path(R).resolve()))
 PKG = "src/pedalrepro"
 ROOT_DIR = Path(workflow.basedir)
 
+# The published values and how the report checks them (pedalrepro.report.check): inputs of every
+# rule that writes report rows.
+PUBLISHED_CLAIMS = ["data/published/claims.yaml", "data/published/thesis_values.yaml",
+                    "data/published/meijaard2007.yaml"]
+
 # Filled by the rules/*.smk files: report parts and everything the book shows.
 REPORT_PARTS = []
 BOOK_INPUTS = []

@@ -138,7 +138,7 @@ rule linear_report:
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
-        published=["data/published/thesis_values.yaml", "data/published/meijaard2007.yaml"],
+        published=PUBLISHED_CLAIMS,
     output:
         f"{R}/tables/report/linear.csv",
     params:

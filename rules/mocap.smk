@@ -59,6 +59,7 @@ rule validation_tables:
         source=interm("mocap/source.json"),
         model=table("table_4_1_model"),
         runs_yaml="data/parameters/validation_runs.yaml",
+        published=PUBLISHED_CLAIMS,
         code=MOCAP_CODE + pkg("validation", "report", "disturbance", "response", "linear"),
     output:
         t41=table("table_4_1"),

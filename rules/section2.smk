@@ -80,7 +80,7 @@ rule section2_report:
     input:
         table_d_1=table("table_d_1"),
         numbers=table("section2_numbers"),
-        published="data/published/thesis_values.yaml",
+        published=PUBLISHED_CLAIMS,
         code=pkg("report"),
     output:
         report=f"{R}/tables/report/section2.csv",
