@@ -126,23 +126,35 @@ rule nonlinear_time:
         "scripts/nonlinear_merge.py"
 
 
-rule nonlinear_report:
+rule nonlinear_rd:
     input:
-        code=NONLINEAR_CODE + pkg("report"),
-        benchmark=table("benchmark_linearisation"),
-        appendix_b=table("linearisation_vs_appendix_b"),
+        code=NONLINEAR_CODE,
         own=interm("nonlinear/linearisation_own.npz"),
-        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
               for method in ("NT", "NP")],
-        meijaard="data/published/meijaard2007.yaml",
-        published="data/published/thesis_values.yaml",
     output:
-        report=f"{R}/tables/report/nonlinear.csv",
         maps=interm("nonlinear/rd_maps.npz"),
     params:
         models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_rd"),
+    message:
+        "RD maps of the non-linear evaluation points 1a, 1b and PS vs NP (Fig 3.34)"
+    script:
+        "scripts/nonlinear_rd.py"
+
+
+rule nonlinear_report:
+    input:
+        code=pkg("report", "evaluation", "linear", "response", "gears", "spectral"),
+        maps=interm("nonlinear/rd_maps.npz"),
+        benchmark=table("benchmark_linearisation"),
+        appendix_b=table("linearisation_vs_appendix_b"),
+        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
+        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
+        published=PUBLISHED_CLAIMS,
+    output:
+        report=f"{R}/tables/report/nonlinear.csv",
     log:
         logfile("nonlinear_report"),
     message:
