@@ -115,9 +115,9 @@ def test_report_helpers(tmp_path):
     empty = report.combine([], tmp_path / "r.csv")
     assert list(empty.columns) == list(report.COLUMNS) and empty.empty
     rows = [report.Row("NRMSD <vertical> COM", "2.2.1", "3.6", "3.57", "abs 0.05",
-                       report.REPRODUCED),
+                       report.REPRODUCED, id="a"),
             report.Row("Table 4.1 roll measured", "Table 4.1", "0.011", "", "n/a",
-                       report.NOT_REPRODUCIBLE, "treadmill data not available")]
+                       report.NOT_REPRODUCIBLE, "treadmill data not available", id="b")]
     df = report.write_rows(rows, tmp_path / "part.csv")
     assert len(report.select(df, "2.2", "vertical")) == 1
     assert len(report.select(df, "2.2", "horizontal")) == 0

@@ -70,6 +70,11 @@ class Row:
             raise ValueError(f"status {self.status!r} not in {STATUSES}")
 
 
+#: Data files this module reads by a computed name (pedalrepro.dependencies picks them up as rule
+#: inputs): the claims and the published values they reference.
+DATA_FILES: tuple[str, ...] = ("data/published/claims.yaml", "data/published/thesis_values.yaml",
+                               "data/published/meijaard2007.yaml")
+
 #: Check kinds of ``data/published/claims.yaml`` and the parameter each needs.
 CHECK_KINDS: dict[str, tuple[str, ...]] = {
     "abs": ("tol",), "relative": ("tol",), "rounds_to": ("decimals",), "half_step": (),
