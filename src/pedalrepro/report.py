@@ -590,8 +590,12 @@ def add_cli(sub) -> None:
 
 
 def _cli_status(args) -> int:
+    from . import paths
+
     rep = pd.read_csv(args.report, dtype=str, keep_default_na=False)
-    changes = status_changes(rep, expected_status(), args.profile)
+    pinned = (expected_status() if (paths.ROOT / EXPECTED_STATUS_FILE).exists()
+              else pd.DataFrame(columns=["id", *PROFILES], dtype=str))
+    changes = status_changes(rep, pinned, args.profile)
     print(changes.to_string(index=False) if len(changes) else "no status change")
     if args.update:
         update_expected_status(rep, args.profile)
