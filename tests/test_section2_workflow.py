@@ -84,7 +84,8 @@ def test_section2_outputs_hold_the_data(section2_run, published, tmp_path):
     with np.load(section2_run / "intermediate" / "section2" / "disturbance_hybrid.npz") as npz:
         data = dict(npz)
     for f in FIGURES:
-        with figures.style():
-            redrawn = figures.save(getattr(section2, f)(data), tmp_path / f"{f}.png")
+        with figures.style():  # drawn in the style, saved after it, as the rule does
+            fig = getattr(section2, f)(data)
+        redrawn = figures.save(fig, tmp_path / f"{f}.png")
         written = matplotlib.image.imread(section2_run / "figures" / f"{f}.png")
         np.testing.assert_array_equal(written, matplotlib.image.imread(redrawn), err_msg=f)
