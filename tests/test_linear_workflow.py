@@ -63,9 +63,10 @@ def test_linear_report_part(results):
     assert list(df.columns) == list(report.COLUMNS)
     assert set(df["status"]) <= set(report.STATUSES)
     # one row per claim id of the linear part (claims.yaml), with the grid's own values
-    rows = report.by_id(df, "benchmark.", "cf_weave_stable_speed", "table_4_1.model.", "rd_1c.",
-                        "rd_2b.", "rd_3a.", "rd_3b.", "rd_4a.", "rd_5_hr_hs.", "rd_5_cr_cf.",
-                        "rd_6_cr_hr.", "gear_ratio_amplitude_max.", "benchmark_ps_maximum.")
+    rows = report.by_id(df, "benchmark.", "self_stable_range_exists", "cf_weave_stable_speed",
+                        "hs_weave_frequency", "benchmark_ps_maximum.", "normal_cycling_amplitude.",
+                        "gear_ratio_amplitude_max.", "rd_1c.", "rd_2b.", "rd_3a.", "rd_3b.",
+                        "rd_4a.", "rd_5_hr_hs.", "rd_5_cr_cf.", "rd_6_cr_hr.", "table_4_1.model.")
     assert len(rows) == len(df)
     weave = report.by_id(df, "benchmark.weave_speed").iloc[0]
     # Meijaard et al. 2007: 4.292382785 m/s; the row prints 6 significant digits (1e-5 m/s)
