@@ -476,3 +476,34 @@ def test_touched_module_or_parameter_file_reruns_its_import_closure(baseline, tm
     print(f"touch {rel}: planned {sorted(jobs)}; updated input: {sorted(direct)}")
     assert direct == expected
     _only_dependents(jobs, direct)
+
+
+def test_every_file_a_rule_reads_is_its_input(quick_workflow):
+    """The end-to-end run recorded, per process, the data files and package resources it opened
+    and the pedalrepro modules it loaded (PEDALREPRO_TRACE, pedalrepro._trace). Each must be an
+    input of the rule that ran (code_inputs of its script; for the book's notebook kernels, of
+    the notebooks): a module reading a file no rule declares fails here."""
+    import json
+
+    if quick_workflow.returncode != 0:
+        pytest.fail("the quick workflow failed:\n" + quick_workflow.log[-3000:])
+    scripts = {s.name: s for s in RULE_SCRIPTS}
+    seen = set()
+    for trace in sorted(quick_workflow.trace.glob("*.json")):
+        rec = json.loads(trace.read_text())
+        name = Path(rec["argv0"]).name
+        if name.startswith("tmp") and name.split(".", 1)[-1] in scripts:
+            script = name.split(".", 1)[-1]
+            inputs = set(dependencies.code_inputs(scripts[script], root=paths.ROOT))
+        elif "ipykernel" in rec["argv0"]:
+            script = "notebooks"
+            inputs = set(dependencies.code_inputs(*NOTEBOOKS, root=paths.ROOT))
+        else:
+            continue  # snakemake itself (it imports pedalrepro to parse the rules)
+        seen.add(script)
+        missing = set(rec["files"]) - inputs
+        assert not missing, f"{script} read {sorted(missing)}, not among its inputs"
+        missing = set(rec["modules"]) - inputs
+        assert not missing, f"{script} imported {sorted(missing)}, not in its closure"
+    missing = (set(scripts) | {"notebooks"}) - seen
+    assert not missing, f"no trace of {sorted(missing)}"

@@ -235,7 +235,8 @@ def _expand(rel: str, root: Path) -> list[str]:
     return [rel]
 
 
-def code_inputs(*sources: str | Path, root: str | Path = paths.ROOT) -> list[str]:
+def code_inputs(*sources: str | Path, root: str | Path = paths.ROOT,
+                package_dir: str | Path | None = None) -> list[str]:
     """Input files of a rule running ``sources``: themselves, their import closure inside the
     package and every file those declare in ``DATA_FILES`` (folders expanded), relative to
     ``root`` (the repository), sorted and without duplicates.
@@ -247,6 +248,9 @@ def code_inputs(*sources: str | Path, root: str | Path = paths.ROOT) -> list[str
         absolute.
     root
         The repository root (Snakemake's working directory).
+    package_dir
+        The package whose modules are followed (default ``<root>/src/pedalrepro``, else this
+        installed package).
     """
     root = Path(root).resolve()
     files = [(root / s).resolve() for s in sources]
@@ -254,8 +258,10 @@ def code_inputs(*sources: str | Path, root: str | Path = paths.ROOT) -> list[str
         if not f.is_file():
             raise FileNotFoundError(f"code_inputs: no such script or notebook {f}")
     # the package of this checkout (a copy of the repository brings its own src/)
-    package_dir = root / "src" / PACKAGE
-    package_dir = package_dir if package_dir.is_dir() else PACKAGE_DIR
+    if package_dir is None:
+        package_dir = root / "src" / PACKAGE
+        package_dir = package_dir if package_dir.is_dir() else PACKAGE_DIR
+    package_dir = Path(package_dir).resolve()
     modules = import_closure(files, package_dir)
     out: set[str] = set()
     for f in [*files, *modules]:
