@@ -13,11 +13,26 @@ LINEAR_FIGURES = sorted(LINEAR_FIGURE_SPECS)
 # Time-solution methods drawn in fig_3_10 .. fig_3_33, fig_g_*, fig_h_*. rules/nonlinear.smk
 # (included after this file) extends it with "NT", "NP"; inputs read it lazily.
 TIME_METHODS = ["LA", "LN"]
-# The config keys figures.linear.draw reads (its `linear` argument).
-LINEAR_FIGURE_KEYS = ["ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
-                      "ps_omega_max_rad_s", "eigen_speed_step_m_s", "eigen_speed_max_m_s",
-                      "harmonics", "gear_ratios", "normal_cycling_speed_kmh",
-                      "normal_cycling_cadence_rpm", "reference_speed_m_s", "reference_cadence_rpm"]
+# The config keys figures.linear.draw reads, per drawing function (the others read files only).
+# draw() gets exactly these (params), so a key missing here fails loudly with a KeyError.
+_PS_GRID_KEYS = ["ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
+                 "ps_omega_max_rad_s"]
+LINEAR_FIGURE_KEYS = {
+    "fig_gear_grid": _PS_GRID_KEYS + ["gear_ratios", "normal_cycling_speed_kmh",
+                                      "normal_cycling_cadence_rpm", "reference_speed_m_s",
+                                      "reference_cadence_rpm"],
+    "fig_neglected_momenta": _PS_GRID_KEYS + ["harmonics", "gear_ratios"],
+    "fig_amplitude_maps": ["gear_ratios", "normal_cycling_speed_kmh",
+                           "normal_cycling_cadence_rpm"],
+    "fig_gear_sections": ["eigen_speed_step_m_s", "eigen_speed_max_m_s", "harmonics",
+                          "gear_ratios", "ps_omega_max_rad_s"],
+}
+# group -> the config keys its figures read
+LINEAR_GROUP_KEYS = {
+    g: sorted({k for f in linear_figure_group(g)
+               for k in LINEAR_FIGURE_KEYS.get(LINEAR_FIGURE_SPECS[f][0], [])})
+    for g in LINEAR_FIGURE_GROUPS
+}
 
 
 rule linear_eigen:
@@ -188,7 +203,7 @@ for _group in LINEAR_FIGURE_GROUPS:
             png=[figure(f) for f in linear_figure_group(_group)],
         params:
             time_methods=lambda wc: list(TIME_METHODS),
-            linear=cfg("linear", *LINEAR_FIGURE_KEYS),
+            linear=cfg("linear", *LINEAR_GROUP_KEYS[_group]),
         log:
             logfile(f"linear_figures_{_group}"),
         message:

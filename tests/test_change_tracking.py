@@ -357,7 +357,7 @@ CHANGES = [
     ("section2", "section2.harmonics", 4, {"section2_table_d_1"},
      LINEAR | NONLINEAR | MOCAP | {"section2_disturbance", "section2_numbers"}),
     ("linear", "linear.time_speed_step_m_s", 2.5,
-     {"linear_time_la", "linear_time_ln", "linear_rd", "nonlinear_time_chunk", "nonlinear_time",
+     {"linear_time_la", "linear_time_ln", "nonlinear_time_chunk", "nonlinear_time",
       "nonlinear_report"},
      SECTION2 | MOCAP | {"linear_eigen", "linear_ps", "linear_table_4_1", "nonlinear_codegen",
                          "nonlinear_codegen_variant", "nonlinear_linearisation"}),
