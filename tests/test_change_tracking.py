@@ -287,12 +287,10 @@ def test_workflow_start_names_the_bad_key(tmp_path, quick_cfg):
 # Dry runs against the finished quick-profile run
 # --------------------------------------------------------------------------------------------
 
-JOB = re.compile(r"^(?:local)?rule (\w+):|^Job \d+: .*$|^Reason: (.*)$", re.M)
-
-
 def planned(results: Path, cfg: dict, tmp_path: Path) -> dict[str, set[str]]:
-    """Rule -> reasons of every job ``snakemake -n`` plans for ``cfg`` (a modified copy of the
-    quick config, results_dir = the finished run)."""
+    """Rule -> reasons of the jobs ``snakemake -n`` plans for ``cfg`` (a modified copy of the
+    quick config, results_dir = the finished run), from the dry run's closing "Reasons:" summary
+    (the per-job lines show the rules' messages, not their names)."""
     cfg = dict(cfg, results_dir=str(results))
     path = tmp_path / f"config_{time.monotonic_ns()}.yaml"
     path.write_text(yaml.safe_dump(cfg))
@@ -300,19 +298,19 @@ def planned(results: Path, cfg: dict, tmp_path: Path) -> dict[str, set[str]]:
     out = proc.stdout + proc.stderr
     assert proc.returncode == 0, out
     jobs: dict[str, set[str]] = {}
-    rule = None
-    for line in out.splitlines():
-        m = re.match(r"^(?:local)?rule (\w+):", line.strip())
-        if m:
-            rule = m.group(1)
-            jobs.setdefault(rule, set())
-            continue
-        m = re.match(r"^reason: (.*)$", line.strip(), re.I)
-        if m and rule:
-            jobs[rule].add(m.group(1).split(":")[0].strip().lower())
-            rule = None
     if "Nothing to be done" in out:
-        assert not jobs
+        return jobs
+    summary = out[out.rindex("\nReasons:"):].splitlines()[1:]
+    reason = None
+    for line in summary:
+        if line.startswith("        ") and reason:
+            for rule in line.strip().split(", "):
+                jobs.setdefault(rule, set()).add(reason)
+        elif line.startswith("    ") and line.rstrip().endswith(":"):
+            reason = line.strip().rstrip(":").lower()
+        elif line.strip() and not line.startswith("    "):
+            break
+    assert jobs, out
     return jobs
 
 
