@@ -2,6 +2,8 @@
 # renders HTML, strictly (warnings are errors; a failing cell fails the build: jupyter-book exits 1
 # with --keep-going once all pages are tried, and the shell rule fails with it).
 
+import json
+
 BOOK_INDEX = f"{R}/book/_build/html/index.html"
 
 
@@ -13,7 +15,8 @@ rule write_config:
     output:
         CONFIG_COPY,
     params:
-        config=config,
+        # canonical (sorted keys): the same values in another key order are no change
+        config=json.dumps(config, sort_keys=True),
     log:
         logfile("write_config"),
     message:
