@@ -9,7 +9,9 @@ NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
                      "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
-                     "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
+                     "nonlinear/numeric", "nonlinear/settings", "nonlinear/rigid",
+                     "nonlinear/bicycle_data", "nonlinear/leg_bodies", "nonlinear/prescribed",
+                     "nonlinear/bodies", "nonlinear/models", "nonlinear/sweep",
                      "nonlinear/substitute", "nonlinear/arms") + [
     f"{PKG}/nonlinear/rhs_driver.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",

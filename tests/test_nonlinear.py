@@ -80,9 +80,9 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
 ])
 def test_compiled_rhs_equals_generated_python(name, options, steer):
     """C right-hand side = generated Python to rounding (NP models, off-equilibrium state)."""
-    from pedalrepro.nonlinear import sweep
+    from pedalrepro.nonlinear import models
 
-    nl = sweep.np_model(name, 2.0 * np.pi)
+    nl = models.np_model(name, 2.0 * np.pi)
     assert nl.options == options
     if name == "HS":  # the correction terms are really non-zero in this check
         assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
@@ -96,12 +96,13 @@ def test_compiled_rhs_equals_generated_python(name, options, steer):
 
 def test_moving_legs_mean_equals_rigid_rider():
     """Removing the revolution-averaged leg bodies and adding them back restores body B."""
-    from pedalrepro.nonlinear import parameters as nlp
+    from pedalrepro.nonlinear import bodies, rigid
 
-    _, _, mean = nlp.leg_bodies("CR", 2.0 * np.pi)
-    rest = nlp.without_legs("CR", mean)
-    full = nlp.bicycle_rider("CR")
-    m, com, inertia = nlp._combine([nlp._body_b(rest)] + list(mean))
+    _, _, mean = bodies.leg_bodies("CR", 2.0 * np.pi)
+    rest = bodies.without_legs("CR", mean)
+    full = bodies.bicycle_rider("CR")
+    back = rigid.combine([rigid.body_part(rest, "B")] + list(mean))
+    m, com, inertia = back.mass, back.com, back.inertia
     assert m == pytest.approx(full["mB"], rel=1e-12)
     assert com[0] == pytest.approx(full["xB"], abs=1e-12)
     assert com[2] == pytest.approx(full["zB"], abs=1e-12)
@@ -112,14 +113,14 @@ def test_moving_legs_mean_equals_rigid_rider():
 def test_leg_fourier_series_reproduces_the_four_bar():
     """The prescribed leg motion (32-harmonic series) equals pedalrepro.legs at odd times."""
     from pedalrepro import legs
-    from pedalrepro.nonlinear import parameters as nlp
+    from pedalrepro.nonlinear import bodies
 
     w = 7.0
-    _, spec, _ = nlp.leg_bodies("CR", w)
+    _, spec, _ = bodies.leg_bodies("CR", w)
     geom = legs.leg_geometry("city", "O")
     t = np.array([0.0123, 0.4567, 0.8])
     motion = legs.leg_motion(geom, w, t)
-    lam = nlp.bicycle_rider("CR")["lam"]
+    lam = bodies.bicycle_rider("CR")["lam"]
     s = np.array([spec(ti) for ti in t])
     k = model.LEG_BODIES.index("shank_r")
     # the shank angle in the rear frame is the four-bar pitch angle minus the steer-axis tilt

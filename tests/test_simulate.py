@@ -53,10 +53,10 @@ def test_harmonic_torque_matches_eq_3_14():
 def test_compiled_run_equals_solve_ivp_rk45():
     """The compiled Dormand-Prince run reproduces solve_ivp(RK45) on the NT model, fall included."""
     from pedalrepro import response
-    from pedalrepro.nonlinear import sweep
+    from pedalrepro.nonlinear import models
     from pedalrepro.simulate import simulate_compiled
 
-    nl = sweep.nt_model("HR")
+    nl = models.nt_model("HR")
     if nl._lib is None:
         pytest.skip("no C compiler")
     h = response.forcing("HR", None)

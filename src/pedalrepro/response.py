@@ -62,7 +62,11 @@ def select(harmonics: Harmonics, n: tuple[int, ...] | None = None, *, roll: bool
     return SimpleHarmonics(nn[keep], r, s)
 
 
-def _coefficients(harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+def harmonic_coefficients(harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+    """Harmonic numbers ``n`` (k,) and torque coefficients (k, 2) [roll, steer] (Eq 3.14).
+
+    Raises ``ValueError`` unless ``n``, ``roll`` and ``steer`` are 1-D of equal length.
+    """
     n = np.asarray(harmonics.n, dtype=float)
     coef = np.stack([np.asarray(harmonics.roll, complex), np.asarray(harmonics.steer, complex)],
                     axis=-1)
@@ -101,7 +105,7 @@ def particular_solution(
         ``n_k`` is ``Re(roll[..., k] exp(i n_k w t))``. The amplitude at the cadence is
         ``abs(roll[..., 0])`` when ``n[0] == 1``; the phase is ``angle(...)``.
     """
-    n, coef = _coefficients(harmonics)
+    n, coef = harmonic_coefficients(harmonics)
     v, w = np.broadcast_arrays(np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float))
     freq = w[..., None] * n  # (..., k)
     a = dynamic_stiffness(model, v[..., None], freq)  # (..., k, 2, 2)
@@ -130,7 +134,7 @@ def solve_2x2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def particular_solution_loop(model: LinearModel, speed_m_s: np.ndarray, omega_rad_s: np.ndarray,
                              harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
     """Reference per-point Python loop of :func:`particular_solution` (for tests and bench)."""
-    n, coef = _coefficients(harmonics)
+    n, coef = harmonic_coefficients(harmonics)
     roll = np.zeros((len(speed_m_s), len(omega_rad_s), len(n)), complex)
     steer = np.zeros_like(roll)
     for i, v in enumerate(speed_m_s):
@@ -215,7 +219,7 @@ def analytic_time_solution(
     v_grid = np.asarray(speed_m_s, float)
     w_grid = np.asarray(omega_rad_s, float)
     t = np.asarray(t_s, float)
-    n, _ = _coefficients(harmonics)
+    n, _ = harmonic_coefficients(harmonics)
     roll_out = np.empty((len(v_grid), len(w_grid), len(t)))
     steer_out = np.empty_like(roll_out)
     lam_all, vec_all = np.linalg.eig(state_matrix(model, v_grid))  # (n_v, 4), (n_v, 4, 4)
@@ -264,7 +268,7 @@ def numerical_time_solution(
     roll, steer, t_end_s, fell
         Samples at ``t_s`` (NaN after the fall), the last simulated time and the fall flag.
     """
-    n, coef = _coefficients(harmonics)
+    n, coef = harmonic_coefficients(harmonics)
     a = state_matrix(model, speed_m_s)
     minv = np.linalg.inv(model.M)
     amp = (minv @ coef.T).T * (n * omega_rad_s)[:, None] ** 2  # (k, 2) complex, M^-1 f

@@ -181,7 +181,7 @@ def simulate_compiled(
     samples by cubic Hermite interpolation between steps; the fall event located by bisection.
     The forcing is given as data (not Python callables): ``harmonics`` at ``omega_rad_s``
     (Eq 3.14) and/or the model's prescribed leg motion (``model.spec``, a
-    :class:`pedalrepro.nonlinear.parameters.FourierSpec`).
+    :class:`pedalrepro.nonlinear.prescribed.FourierSpec`).
 
     Raises
     ------

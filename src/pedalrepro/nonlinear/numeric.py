@@ -114,7 +114,7 @@ class NonlinearModel:
         substitute model HS. ``None``: no correction (all other models).
     arm_parameters
         With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
-        (:func:`pedalrepro.nonlinear.parameters.model_bodies`).
+        (:func:`pedalrepro.nonlinear.bodies.model_bodies`).
     steer_limit_rad
         Runs end like a fall when ``|steer|`` reaches this angle (arm loops: beyond it the arms
         cannot reach the handlebar, :func:`pedalrepro.nonlinear.arms.steer_reach_rad`).

@@ -16,8 +16,7 @@ import numpy as np
 
 from .. import spectral
 from ..simulate import Simulation, harmonic_torque, simulate, simulate_compiled
-from . import parameters as nlp
-from . import substitute
+from .models import np_model, nt_model
 from .numeric import NonlinearModel
 
 METHODS: tuple[str, ...] = ("NT", "NP")
@@ -39,28 +38,6 @@ class RunSettings:
         lin, nl = cfg["linear"], cfg["nonlinear"]
         return cls(lin["duration_s"], lin["sample_rate_hz"], nl["rtol"], nl["atol"],
                    nl["fall_roll_rad"], nl["method"])
-
-
-def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
-    """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3).
-
-    CF carries its arm loops (:mod:`pedalrepro.nonlinear.arms`); HS is a substitute
-    (:mod:`pedalrepro.nonlinear.substitute`): its rigid-rider body plus the linear correction
-    to Appendix B. ``original_seat``: the city rider at the original 0.77 m seat (Fig E.1).
-    """
-    return NonlinearModel(nlp.legs_fixed(name, original_seat), nlp.model_options(name),
-                          linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name, original_seat)[1],
-                          steer_limit_rad=nlp.steer_limit_rad(name, original_seat))
-
-
-def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
-    """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
-    leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
-    return NonlinearModel(nlp.without_legs(name, mean), nlp.model_options(name, legs=True),
-                          leg_params, spec, linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name)[1],
-                          steer_limit_rad=nlp.steer_limit_rad(name))
 
 
 def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,
