@@ -76,7 +76,9 @@ rule linear_time_la:
 # LN integrates every run (minutes per model on the thesis grid): one job per model.
 rule linear_time_ln:
     input:
-        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
+        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs",
+                 "integrator/__init__", "integrator/core", "integrator/build", "integrator/linear")
+        + [f"{PKG}/integrator/dopri.c", f"{PKG}/integrator/linear_rhs.c"],
         parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
         npz=interm("time/LN_{model}.npz"),

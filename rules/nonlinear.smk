@@ -7,13 +7,16 @@
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
-NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
-                     "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
+NONLINEAR_CODE = pkg("integrator/__init__", "integrator/core", "integrator/build",
+                     "integrator/linear", "spectral", "response", "evaluation", "linear",
+                     "disturbance", "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
                      "nonlinear/numeric", "nonlinear/settings", "nonlinear/rigid",
                      "nonlinear/bicycle_data", "nonlinear/leg_bodies", "nonlinear/prescribed",
                      "nonlinear/bodies", "nonlinear/models", "nonlinear/sweep",
+                     "nonlinear/library", "nonlinear/simulate",
                      "nonlinear/substitute", "nonlinear/arms") + [
-    f"{PKG}/nonlinear/rhs_driver.c"]
+    f"{PKG}/nonlinear/rhs_driver.c", f"{PKG}/integrator/dopri.c",
+    f"{PKG}/integrator/linear_rhs.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
                         "data/parameters/legs.yaml"]
 # The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP

@@ -22,8 +22,9 @@ import time
 import numpy as np
 
 from pedalrepro import config, response
+from pedalrepro.integrator import SPACAR_ATOL, SPACAR_RTOL
 from pedalrepro.nonlinear import models, sweep
-from pedalrepro.simulate import SPACAR_ATOL, SPACAR_RTOL, simulate
+from pedalrepro.nonlinear.simulate import simulate
 
 
 def timed(fn, *args, **kwargs):
@@ -54,7 +55,8 @@ def main() -> None:
                   f"fell={sim.fell} at {sim.t_end_s:.1f} s)")
     nl = models.np_model("HR", 6.0)
     sim, dt = timed(simulate, nl, 6.0, settings.duration_s, settings.sample_rate_hz,
-                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
+                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
+                    compiled=False)
     print(f"same run with scipy solve_ivp(RK45) + compiled right-hand side: {dt:.2f} s "
           f"({sim.n_rhs} rhs calls)")
     if args.single_only:

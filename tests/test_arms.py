@@ -14,7 +14,7 @@ import pytest
 from pedalrepro.nonlinear import arms, bodies, models, rigid
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.settings import model_options
-from pedalrepro.simulate import simulate, simulate_compiled
+from pedalrepro.nonlinear.simulate import simulate
 
 NAMES = ("M", "C1", "K0", "K2")
 MOVING = ("arm_m_elbow", "arm_m_upper", "arm_m_fore")
@@ -64,8 +64,8 @@ def test_runs_end_at_the_arms_reach():
     nl = models.nt_model("CF")
     assert nl.steer_limit_rad == pytest.approx(0.95 * 0.413, abs=2e-3)
     x0 = nl.upright_state(1.0, steer_rate_rad_s=3.0)
-    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0),
-                simulate_compiled(nl, 1.0, 5.0, 100.0, x0=x0)):
+    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0, compiled=False),
+                simulate(nl, 1.0, 5.0, 100.0, x0=x0)):
         assert sim.fell and sim.t_end_s < 5.0
         last = np.flatnonzero(np.isfinite(sim.steer_rad))[-1]
         assert abs(sim.steer_rad[last]) <= nl.steer_limit_rad + 1e-9

@@ -9,7 +9,7 @@ import yaml
 from pedalrepro import params, paths
 from pedalrepro.nonlinear import codegen, model
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate
+from pedalrepro.nonlinear.simulate import simulate
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +73,31 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
     assert codegen.generated_source(model.ModelOptions()) == path
 
 
+def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, monkeypatch,
+                                                             tmp_path):
+    """Editing the driver or the integrator C changes the library, never the derivation key:
+    the library is rebuilt from the cached generated C (derive() is not called)."""
+    from pedalrepro.nonlinear import library
+
+    options = model.ModelOptions()
+    key, so = codegen.cache_key(options), library.compiled_library(options)
+    if so is None:
+        pytest.skip("no C compiler")
+    edited = tmp_path / "rhs_driver.c"
+    edited.write_text(library.RHS_DRIVER_C.read_text() + "\n/* an edit */\n")
+
+    def boom(*args, **kwargs):
+        raise AssertionError("re-derived although only hand-written C changed")
+
+    monkeypatch.setattr(model, "derive", boom)
+    monkeypatch.setattr(library, "RHS_DRIVER_C", edited)
+    rebuilt = library.compiled_library(options)
+    assert codegen.cache_key(options) == key
+    assert rebuilt != so and rebuilt.exists() and rebuilt.name.startswith(key)
+    rebuilt.unlink()
+    rebuilt.with_suffix(".c").unlink()
+
+
 @pytest.mark.parametrize(("name", "options", "steer"), [
     ("HR", model.ModelOptions(legs=True), 0.05),             # moving legs
     ("HS", model.ModelOptions(legs=True), 0.05),             # + the substitute's lc_* terms
@@ -87,7 +112,7 @@ def test_compiled_rhs_equals_generated_python(name, options, steer):
     if name == "HS":  # the correction terms are really non-zero in this check
         assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
                    if n.startswith("lc_"))
-    if nl._lib is None:
+    if nl.lib is None:
         pytest.skip("no C compiler: only the Python path exists")
     x = np.array([0.1, nl.nominal_pitch_rad, steer, 0.3, -12.0, -0.2])
     np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),

@@ -23,7 +23,7 @@ import yaml
 from pedalrepro import linear, params, response
 from pedalrepro.nonlinear import arms, bodies, models, substitute
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate
+from pedalrepro.nonlinear.simulate import simulate
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 NAMES = ("M", "C1", "K0", "K2")

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from . import spectral
+from .integrator import LinearSystem, SimulationError, integrate
 from .linear import state_matrix
 from .params import LinearModel
 
@@ -257,11 +257,15 @@ def numerical_time_solution(
     atol: float = 1e-6,
     fall_roll_rad: float = np.pi / 2,
     method: str = "RK45",
+    compiled: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, float, bool]:
     """Numerical integration of the linear model from rest (LN; Sec 3.1.2.1, ode45 check).
 
-    ``scipy.integrate.solve_ivp`` (RK45 = Dormand-Prince, as Matlab's ode45) with a terminal
-    event at ``|roll| = fall_roll_rad``; what was simulated before the fall is kept.
+    Dormand-Prince 5(4) (Matlab's ode45, scipy's RK45) with a terminal event at
+    ``|roll| = fall_roll_rad``; what was simulated before the fall is kept. The run goes
+    through :func:`pedalrepro.integrator.integrate`: compiled (``variant="scipy"``, solve_ivp's
+    RK45 step for step, its quartic dense output and event location) unless ``compiled`` is
+    False or ``method`` is not RK45 (then ``scipy.integrate.solve_ivp`` itself).
 
     Returns
     -------
@@ -269,33 +273,14 @@ def numerical_time_solution(
         Samples at ``t_s`` (NaN after the fall), the last simulated time and the fall flag.
     """
     n, coef = harmonic_coefficients(harmonics)
-    a = state_matrix(model, speed_m_s)
-    minv = np.linalg.inv(model.M)
-    amp = (minv @ coef.T).T * (n * omega_rad_s)[:, None] ** 2  # (k, 2) complex, M^-1 f
-    freq = n * omega_rad_s
-
-    def rhs(t: float, x: np.ndarray) -> np.ndarray:
-        acc = np.real(np.exp(1j * freq * t) @ amp)
-        dx = a @ x
-        dx[2:] += acc
-        return dx
-
-    def fall(t: float, x: np.ndarray) -> float:
-        return abs(x[0]) - fall_roll_rad
-
-    fall.terminal = True
-    t = np.asarray(t_s, float)
-    sol = solve_ivp(rhs, (t[0], t[-1]), np.zeros(4), method=method, t_eval=t, rtol=rtol,
-                    atol=atol, events=fall)
-    if sol.status == -1:
-        raise RuntimeError(f"integration failed at v={speed_m_s}, w={omega_rad_s}: {sol.message}")
-    roll = np.full(len(t), np.nan)
-    steer = np.full(len(t), np.nan)
-    m = len(sol.t)
-    roll[:m], steer[:m] = sol.y[0], sol.y[1]
-    fell = sol.status == 1
-    t_end = float(sol.t_events[0][0]) if fell else float(t[-1])
-    return roll, steer, t_end, fell
+    system = LinearSystem.bicycle(state_matrix(model, speed_m_s), model.M, n, coef, omega_rad_s)
+    try:
+        sim = integrate(system, np.zeros(4), t_s, rtol=rtol, atol=atol,
+                        fall_roll_rad=fall_roll_rad, method=method, compiled=compiled,
+                        variant="scipy")
+    except SimulationError as err:
+        raise RuntimeError(f"integration failed at v={speed_m_s}, w={omega_rad_s}: {err}") from err
+    return sim.roll_rad, sim.steer_rad, sim.t_end_s, sim.fell
 
 
 def numerical_time_solutions(
