@@ -12,8 +12,8 @@ import pandas as pd
 from pedalrepro import evaluation, gears, linear, params, report, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
-lin = cfg["linear"]
+lin = snakemake.params.lin
+profile = snakemake.params.profile
 pub = params.published()
 eig = pd.read_csv(snakemake.input.eigen).set_index("model")
 rd = pd.read_csv(snakemake.input.rd)
@@ -83,9 +83,9 @@ for m in ("HS", "CF", "HR", "CR"):
 for m in ("HS", "CF", "HR", "CR"):
     if m not in ps:
         continue
-    h = response.forcing(m, cfg)
+    h = response.forcing(m, snakemake.params.harmonics)
     r_wheel = gears.wheel_radius_m(linear.bicycle_of(m))
-    v = response.eigen_speeds(cfg)[1:]
+    v = response.grid(**snakemake.params.eigen_speeds)[1:]
     peak = 0.0
     from pedalrepro.figures.linear import gear_section
 
@@ -110,7 +110,7 @@ def median_check(claim_id, row, note, **fields):
                        f"{row['max_percent']:.3g}) %", **fields)
 
 
-runs = (f"profile {cfg['profile']}: {lin['duration_s']:g} s runs at {lin['sample_rate_hz']:g} Hz "
+runs = (f"profile {profile}: {lin['duration_s']:g} s runs at {lin['sample_rate_hz']:g} Hz "
         "(the RD shrinks with the run length)")
 for point in ("2b", "3b"):
     for m in ("HS", "CF", "HR", "CR"):
@@ -126,7 +126,7 @@ for m in ("HS", "CF", "HR", "CR"):
         if row is not None:
             rows.append(median_check(
                 "rd_3a.{model}.{coord}", row, f"ode45-like RK45, rtol {lin['rtol']:g}, atol "
-                f"{lin['atol']:g}; profile {cfg['profile']}: {lin['duration_s']:g} s runs",
+                f"{lin['atol']:g}; profile {profile}: {lin['duration_s']:g} s runs",
                 model=m, coord=coord))
 for m in ("HS", "CF", "HR", "CR"):
     for coord in ("roll", "steer"):

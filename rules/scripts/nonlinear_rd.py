@@ -11,18 +11,17 @@ import numpy as np
 from pedalrepro import evaluation, params, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
 own = np.load(snakemake.input.own)
 models = list(snakemake.params.models)
-v, w = response.time_grid(cfg)
+samples = snakemake.params.samples
 maps, ranges = evaluation.nonlinear_rd_maps(
     {m: params.LinearModel(m, *(own[f"{m}_{k}"] for k in ("M", "C1", "K0", "K2")))
      for m in models},
     {m: np.load(snakemake.input.time[2 * i]) for i, m in enumerate(models)},
     {m: np.load(snakemake.input.time[2 * i + 1]) for i, m in enumerate(models)},
-    {m: response.forcing(m, cfg) for m in models},
-    v, w, response.time_samples(cfg), cfg["linear"]["sample_rate_hz"],
-    cfg["nonlinear"]["fall_roll_rad"])
+    {m: response.forcing(m, snakemake.params.harmonics) for m in models},
+    *response.speed_cadence_grid(**snakemake.params.grid), response.time_samples(**samples),
+    samples["sample_rate_hz"], snakemake.params.fall_roll_rad)
 for m in models:
     print(m, "stable ranges of the own linearisation", ranges[m], file=sys.stderr)
 np.savez(snakemake.output.maps, **maps)
