@@ -1,8 +1,9 @@
 # Rules of the nonlinear part (thesis Sec 3.1.1.3, 3.1.2.1, 3.2.4; see rules/common.smk):
 # the symbolic models derived and compiled once (cached), their linearisations (benchmark vs
 # Meijaard 2007, the four models' bodies vs Appendix B, Fig E.1), the NT/NP time-solution sweeps
-# split by method, model and speed chunk, the report rows of evaluation points 1a, 1b, 2a,
-# PS vs NP, and fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
+# split by method, model and speed chunk, the RD maps of evaluation points 1a, 1b, 2a and
+# PS vs NP (rule nonlinear_rd), their report rows (nonlinear_report, which only reads), and
+# fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
 # substitute (pedalrepro.nonlinear.substitute).
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])

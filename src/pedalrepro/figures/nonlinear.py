@@ -18,7 +18,7 @@ def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
     maps
         ``speed_m_s``, ``omega_rad_s``, ``models`` and ``<model>_<roll|steer>_ps_np`` (percent,
         speed x cadence), ``<model>_stable`` (speeds inside the self-stable range), as written by
-        the ``nonlinear_report`` rule (``results/intermediate/nonlinear/rd_maps.npz``).
+        the ``nonlinear_rd`` rule (``results/intermediate/nonlinear/rd_maps.npz``).
     """
     v, w = np.asarray(maps["speed_m_s"]), np.asarray(maps["omega_rad_s"])
     models = [str(m) for m in np.atleast_1d(maps["models"])]
