@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import io
 import warnings
+from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
@@ -83,7 +84,7 @@ def bottom_bracket_m(model: str) -> np.ndarray:
     s = settings()
     bike = s["models"][model]["bicycle"]
     bb = s["bottom_bracket"][bike]
-    r_r = bicycle_rider(model)["rR"]
+    r_r = thesis_bicycle(bike)["rR"] if bike != "Benchmark" else bicycle_rider(model)["rR"]
     return np.array([np.sqrt(bb["lcs"] ** 2 - (r_r - bb["hbb"]) ** 2), 0.0, -bb["hbb"]])
 
 
@@ -116,73 +117,226 @@ def rider_drop_m(model: str, original_seat: bool = False) -> np.ndarray:
     return np.zeros(3)
 
 
+def seat_tube_unit(model: str) -> np.ndarray:
+    """Unit vector down the seat tube (benchmark frame: forward and down), the seat's travel."""
+    s = settings()
+    lam = legs.leg_geometry(s["models"][model]["legs"],
+                            s["assumptions"]["leg_com_model"]).seat_tube_angle_rad
+    return np.array([np.cos(lam), 0.0, np.sin(lam)])
+
+
 def has_arms(model: str) -> bool:
     """True for a model with arm loops (``arms`` in nonlinear_models.yaml: CF)."""
     return model != "benchmark" and bool(settings()["models"][model].get("arms"))
 
 
-def _bicycle_rider(model: str, original_seat: bool, arms: bool):
-    """Benchmark parameters (and the arm loop, if ``arms``) of a model; see bicycle_rider."""
+def thesis_inputs() -> dict:
+    """``data/parameters/thesis_inputs.yaml``: the thesis's bicycle, wheel and rider inputs."""
+    return params.read_yaml(paths.PARAMETERS / "thesis_inputs.yaml")
+
+
+@cache
+def thesis_bicycle(bicycle: str) -> dict[str, float]:
+    """Bicycle-only benchmark parameters with the thesis's geometry and wheels.
+
+    BicycleParameters' values (:func:`_bicycleparameters`) with the steer-axis tilt, trail,
+    wheelbase, wheel radii and wheel spin inertias the thesis used
+    (``data/parameters/thesis_inputs.yaml``: rounded tabulated values, read off Appendix B's
+    Whipple identities).
+    """
+    alone = dict(_bicycleparameters(bicycle, False)[0])
+    table = thesis_inputs()["bicycles"]
+    if bicycle not in table:
+        return alone
+    row = table[bicycle]
+    for key in ("c", "w", "rR", "IRyy", "rF", "IFyy"):
+        if key not in row:
+            raise KeyError(f"data/parameters/thesis_inputs.yaml: bicycles.{bicycle}.{key} missing")
+        alone[key] = float(row[key])
+    alone["lam"] = float(np.deg2rad(row["lam_deg"]))
+    return alone
+
+
+def _moments(part) -> tuple[float, np.ndarray, np.ndarray]:
+    """(mass, first moment m r, second moment about the origin) of a (m, com, inertia) part."""
+    m, com, inertia = part
+    return m, m * np.asarray(com, float), inertia + _parallel(m, np.asarray(com, float))
+
+
+def _from_moments(m: float, first: np.ndarray, second: np.ndarray):
+    com = first / m
+    return m, com, second - _parallel(m, com)
+
+
+@cache
+def thesis_rider(bicycle: str) -> tuple[float, np.ndarray, np.ndarray]:
+    """The thesis's 72 kg rigid rider (mass, COM, central inertia) on ``bicycle``, seat as built.
+
+    Browser: the benchmark-form rider of Moore et al. (2009), BicycleParameters
+    ``JasonBrowserBenchmark.txt`` (``rider_jason.yaml``). Other bicycles (ASSUMPTION, see
+    ``thesis_inputs.yaml``): that rider plus the change of posture between the two Yeadon
+    configurations of BicycleParameters, scaled to the benchmark rider's mass.
+    """
+    spec = thesis_inputs()["rider"]
+    ref = params.read_yaml(paths.PARAMETERS / "rider_jason.yaml")[spec["benchmark_rider"]]
+    base = _body_b({k: float(v) for k, v in ref.items()})
+    home = spec["benchmark_rider_bicycle"]
+    if bicycle == home:
+        return base
+    yeadon = {}
+    for bike in (home, bicycle):
+        alone, both = _bicycleparameters(bike, True)
+        yeadon[bike] = _moments(_subtract(_body_b(both), [_body_b(alone)]))
+    scale = base[0] / yeadon[home][0]
+    m, first, second = _moments(base)
+    first = first + scale * (yeadon[bicycle][1] - yeadon[home][1])
+    second = second + scale * (yeadon[bicycle][2] - yeadon[home][2])
+    return _from_moments(m, first, second)
+
+
+def _frame(p: dict, body: str) -> tuple[float, np.ndarray, np.ndarray]:
+    return p[f"m{body}"], np.array([p[f"x{body}"], 0.0, p[f"z{body}"]]), _inertia(p, body)
+
+
+def _set_body(p: dict, body: str, part) -> dict:
+    m, com, inertia = part
+    out = dict(p)
+    out.update({f"m{body}": m, f"x{body}": com[0], f"z{body}": com[2],
+                f"I{body}xx": inertia[0, 0], f"I{body}yy": inertia[1, 1],
+                f"I{body}zz": inertia[2, 2], f"I{body}xz": inertia[0, 2]})
+    return out
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A model before calibration: the bicycle and what is rigidly attached to its frames.
+
+    ``bicycle``: bicycle-only benchmark parameters (thesis geometry and wheels; frames B and H
+    as measured); ``rear_parts``: rider (without moving arms), legs and cranks frozen at crank
+    angle 0, shoulder particles; ``front_parts``: hands and grip particles (CF); ``frozen``:
+    the six leg and crank bodies at crank angle 0 (removed again for NP); ``loop``: the arm
+    loop or None.
+    """
+
+    bicycle: dict
+    rear_parts: tuple
+    front_parts: tuple
+    frozen: tuple
+    loop: object = None
+
+
+@cache
+def assembly(model: str, original_seat: bool = False, rider_shift_m: float = 0.0) -> Assembly:
+    """The uncalibrated parts of ``model`` (see :class:`Assembly`), thesis Sec 3.1.1.3.
+
+    Rider: :func:`thesis_rider` (72 kg), lowered 0.05 m along the seat tube on the city
+    bicycle unless ``original_seat`` (Sec 2.1.1); its legs are taken out with their
+    revolution-averaged mass distribution (the rider file's legs are in no particular crank
+    position) and the six leg and crank bodies (0.2 kg cranks, Table D.1) are added frozen at
+    crank angle 0 (crank horizontal, right foot forward), the configuration the thesis
+    linearised. CF: the arm segments are taken out of the rider and replaced by the arm loops.
+    ``rider_shift_m``: the rider (without legs) moved further down the seat tube (the Stratos
+    rider's seat position is a calibration unknown, ``thesis_inputs.yaml``).
+    """
     s = settings()
-    if model not in s["models"]:
-        raise KeyError(f"no non-linear model {model!r}: expected one of {NONLINEAR_MODELS}")
+    if model not in s["models"] or model == "benchmark":
+        raise KeyError(f"no non-linear model {model!r}: expected one of {NONLINEAR_MODELS[1:]}")
     spec = s["models"][model]
-    alone, both = _bicycleparameters(spec["bicycle"], spec["rider"])
     a = s["assumptions"]
-    frame = _body_b(alone)
-    total = _body_b(both)
-    # the rider alone = total - bicycle frame (inverse parallel-axis combination)
-    rider = _subtract(total, [frame])
-    drop = rider_drop_m(model, original_seat)
+    bike = thesis_bicycle(spec["bicycle"])
+    drop = rider_drop_m(model, original_seat) + rider_shift_m * seat_tube_unit(model)
+    rider = thesis_rider(spec["bicycle"])
+    rider = (rider[0], rider[1] + drop, rider[2])
+    geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
+    _, _, mean, frozen = _leg_revolution(geom, bottom_bracket_m(model), bike["lam"], bike["rR"],
+                                         2 * np.pi, 256)
+    rider_legs = [p for name, p in zip(_model.LEG_BODIES, mean, strict=True)
+                  if not name.startswith("crank")]
+    rider = _subtract(rider, [(m, c + drop, i) for m, c, i in rider_legs])
+    rear: list = [rider]
+    if a["add_cranks"]:
+        rear += list(frozen)
+    else:
+        rear += [p for name, p in zip(_model.LEG_BODIES, frozen, strict=True)
+                 if not name.startswith("crank")]
+    front: list = []
     loop = None
-    front_parts: list = []
-    if arms:
+    if has_arms(model):
         from . import arms as _arms
 
         yeadon = _arms.yeadon_arms(spec["bicycle"])
-        rider = _subtract(rider, [p.as_tuple() for p in yeadon.segments])
+        rear[0] = _subtract(rear[0], [(p.mass, p.com + drop, p.inertia)
+                                      for p in yeadon.segments])
         loop = _arms.arm_loop(yeadon.shoulder + drop, yeadon)
         at_shoulder, at_grip = _arms.fixed_parts(loop)
         mirror = np.diag([1.0, -1.0, 1.0])
-        hands = [yeadon.hand.as_tuple(), (yeadon.hand.mass, mirror @ yeadon.hand.com,
-                                          mirror @ yeadon.hand.inertia @ mirror)]
-        front_parts = hands + [p.as_tuple() for p in at_grip]
-    parts = [frame, (rider[0], rider[1] + drop, rider[2])]
-    if loop is not None:
-        parts += [p.as_tuple() for p in at_shoulder]
-    out = dict(both)
-    if a["add_cranks"]:
-        geom = legs.leg_geometry(spec["legs"], a["leg_com_model"])
-        bb = s["bottom_bracket"][spec["bicycle"]]
-        a_pt = np.array([np.sqrt(bb["lcs"] ** 2 - (both["rR"] - bb["hbb"]) ** 2), 0.0, -bb["hbb"]])
-        _, _, mean, _ = _leg_revolution(geom, a_pt, both["lam"], both["rR"], 2 * np.pi, 256)
-        parts += [p for name, p in zip(_model.LEG_BODIES, mean, strict=True)
-                  if name.startswith("crank")]
-    out = _set_body_b(out, *_combine(parts))
-    if front_parts:
-        h = (out["mH"], np.array([out["xH"], 0.0, out["zH"]]), _inertia(out, "H"))
-        m, com, inertia = _combine([h] + front_parts)
-        out.update(mH=m, xH=com[0], zH=com[2], IHxx=inertia[0, 0], IHyy=inertia[1, 1],
-                   IHzz=inertia[2, 2], IHxz=inertia[0, 2])
-    return out, loop
+        front += [yeadon.hand.as_tuple(), (yeadon.hand.mass, mirror @ yeadon.hand.com,
+                                           mirror @ yeadon.hand.inertia @ mirror)]
+        front += [p.as_tuple() for p in at_grip]
+        rear += [p.as_tuple() for p in at_shoulder]
+    return Assembly(bike, tuple(rear), tuple(front), tuple(frozen), loop)
+
+
+def assemble(asm: Assembly, frames: dict | None = None) -> dict[str, float]:
+    """Benchmark parameters of an assembly with the frames ``frames`` (default: measured).
+
+    ``frames``: ``{"B": part, "H": part}`` (mass, COM, central inertia of the bicycle's rear
+    and front frame); body B = rear frame + ``rear_parts``, body H = front frame +
+    ``front_parts``.
+    """
+    bike = asm.bicycle
+    frames = frames or {}
+    rear = frames.get("B", _frame(bike, "B"))
+    front = frames.get("H", _frame(bike, "H"))
+    out = _set_body(bike, "B", _combine([rear, *asm.rear_parts]))
+    if asm.front_parts:
+        front = _combine([front, *asm.front_parts])
+    return _set_body(out, "H", front)
+
+
+def calibration_of(model: str):
+    """The :class:`calibration.Calibration` a model uses; a substitute (HS) that of its body."""
+    spec = settings()["models"][model]
+    body = spec.get("substitute", {}).get("body_of", model)
+    from . import calibration
+
+    return calibration.calibrate(body)
+
+
+def model_assembly(model: str, original_seat: bool = False, calibrated: bool = True):
+    """(assembly, frames) of a model: calibrated (default) or as measured (frames None)."""
+    if not calibrated:
+        return assembly(model, original_seat), None
+    cal = calibration_of(model)
+    return assembly(model, original_seat, cal.rider_shift_m), cal.frames
+
+
+def _bicycle_rider(model: str, original_seat: bool, arms: bool, calibrated: bool = True):
+    """Benchmark parameters (legs frozen at crank angle 0) and the arm loop of a model."""
+    asm, frames = model_assembly(model, original_seat, calibrated)
+    return assemble(asm, frames), asm.loop
 
 
 @cache
-def bicycle_rider(model: str, original_seat: bool = False) -> dict[str, float]:
-    """Benchmark parameters of a model with the rider and legs lumped rigidly into body B.
+def bicycle_rider(model: str, original_seat: bool = False,
+                  calibrated: bool = True) -> dict[str, float]:
+    """Benchmark parameters of a model with the rider, legs and cranks lumped into body B.
 
-    ``"benchmark"``: Meijaard et al. (2007) unchanged. ``"HR"``/``"CR"`` (and the rigid-rider
-    bodies of ``"HS"``/``"CF"``): Stratos/Browser + rider Jason + two 0.2 kg cranks at the
-    crank axis; on the city bicycle the rider is lowered 0.05 m along the seat tube
-    (0.77 -> 0.72 m, Sec 2.1.1) unless ``original_seat`` (Fig E.1).
+    ``"benchmark"``: Meijaard et al. (2007) unchanged. Otherwise :func:`assemble` of
+    :func:`assembly` with the frames calibrated to Appendix B
+    (:mod:`pedalrepro.nonlinear.calibration`) unless ``calibrated`` is False: the legs and
+    cranks frozen at crank angle 0 (Sec 3.1.1.3), the city rider lowered 0.05 m unless
+    ``original_seat`` (Fig E.1). With arms (CF) body B holds the shoulder particles and body H
+    the hands and grip particles (:func:`model_bodies`).
     """
     if model == "benchmark":
         return params.benchmark_parameters("benchmark")
-    return _bicycle_rider(model, original_seat, False)[0]
+    return _bicycle_rider(model, original_seat, has_arms(model), calibrated)[0]
 
 
 @cache
-def model_bodies(model: str, original_seat: bool = False) -> tuple[dict[str, float], dict]:
+def model_bodies(model: str, original_seat: bool = False,
+                 calibrated: bool = True) -> tuple[dict[str, float], dict]:
     """Benchmark parameters of the model's rigid bodies and the values of its arm symbols.
 
     Without arms: :func:`bicycle_rider` and ``{}``. With arms (CF,
@@ -190,13 +344,14 @@ def model_bodies(model: str, original_seat: bool = False) -> tuple[dict[str, flo
     the front frame with the hands and the grip particles, and the ``arm_*`` values
     (:data:`model.ARM_PARAMETERS`) of the arm loop at this seat height.
     """
+    bench = bicycle_rider(model, original_seat, calibrated)
     if not has_arms(model):
-        return bicycle_rider(model, original_seat), {}
+        return bench, {}
     from . import arms as _arms
     from .numeric import moore_parameters
 
-    bench, loop = _bicycle_rider(model, original_seat, True)
-    return bench, _arms.symbol_values(loop, bench, moore_parameters(bench))
+    return bench, _arms.symbol_values(arm_loop(model, original_seat), bench,
+                                      moore_parameters(bench))
 
 
 @cache
@@ -204,7 +359,7 @@ def arm_loop(model: str, original_seat: bool = False):
     """The :class:`pedalrepro.nonlinear.arms.ArmLoop` of a model with arms."""
     if not has_arms(model):
         raise ValueError(f"{model} has no arm loops")
-    return _bicycle_rider(model, original_seat, True)[1]
+    return model_assembly(model, original_seat)[0].loop
 
 
 def steer_limit_rad(model: str, original_seat: bool = False) -> float:
@@ -254,18 +409,18 @@ def leg_bodies(model: str, cadence_rad_s: float, samples: int = 256):
 
     Returns
     -------
-    (leg_params, spec, mean_parts)
+    (leg_params, spec, frozen_parts)
         ``leg_params``: ``<body>_y``, ``<body>_m``, ``<body>_I`` for :data:`model.LEG_BODIES`;
         ``spec``: ``t -> s`` (positions, rates, accelerations in the generated ``SPEC`` order,
         from a Fourier series of one revolution, ``samples`` per revolution, exact to rounding
-        for the band-limited four-bar motion); ``mean_parts``: the revolution-averaged
-        (mass, com, inertia) of each body in the benchmark frame, to remove from body B.
+        for the band-limited four-bar motion); ``frozen_parts``: the (mass, com, inertia) of each
+        body at crank angle 0 in the benchmark frame, the bodies NP removes from body B.
     """
     s = settings()
     geom = legs.leg_geometry(s["models"][model]["legs"], s["assumptions"]["leg_com_model"])
     bench = bicycle_rider(model)
     omega = float(cadence_rad_s)
-    leg_params, signals, mean_parts, _ = _leg_revolution(
+    leg_params, signals, _, frozen_parts = _leg_revolution(
         geom, bottom_bracket_m(model), bench["lam"], bench["rR"], omega, samples)
     # Fourier series x(t) = sum_n Re(c_n e^{i n w t}); the crank angles also turn at -omega.
     slope = np.zeros(signals.shape[0])
@@ -278,7 +433,7 @@ def leg_bodies(model: str, cadence_rad_s: float, samples: int = 256):
     coef = coef[:, :n_h]
 
     spec = FourierSpec(omega, coef, slope)
-    return leg_params, spec, mean_parts
+    return leg_params, spec, frozen_parts
 
 
 def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
@@ -328,28 +483,24 @@ def _leg_revolution(geom, a_pt, lam, r_r, omega, samples):
     return leg_params, np.array(rows), mean_parts, frozen_parts
 
 
-def without_legs(model: str, mean_parts, original_seat: bool = False) -> dict[str, float]:
-    """Body B of :func:`model_bodies` with the revolution-averaged leg bodies removed."""
+def without_legs(model: str, original_seat: bool = False) -> dict[str, float]:
+    """Body B of :func:`model_bodies` without the six leg and crank bodies frozen at crank angle 0.
+
+    Method NP (Sec 3.1.1.3, issue: the calibrated body is the one with the legs frozen at
+    crank angle 0): exactly those bodies are removed and the moving ones are added
+    (:func:`leg_bodies`).
+    """
     bench = model_bodies(model, original_seat)[0]
-    return _set_body_b(bench, *_subtract(_body_b(bench), list(mean_parts)))
+    frozen = list(assembly(model, original_seat).frozen)
+    return _set_body_b(bench, *_subtract(_body_b(bench), frozen))
 
 
 def legs_fixed(model: str, original_seat: bool = False) -> dict[str, float]:
     """Benchmark parameters of the NT model: the legs fixed to the frame at crank angle 0.
 
     Thesis Sec 3.1.1.3: the models are linearised (and NT keeps the legs fixed) with the crank
-    horizontal, right foot forward (``theta_A = 0``). Body B = :func:`bicycle_rider` with the
-    revolution-averaged leg bodies replaced by the same bodies frozen at ``t = 0``, so that NP's
-    time average and NT differ exactly by this choice of leg configuration (evaluation
-    points 1a/2a: the simplified mass distribution). With arms (CF) body B and the front frame
-    of :func:`model_bodies`; the arm symbols are :func:`model_bodies`' second item.
+    horizontal, right foot forward (``theta_A = 0``): :func:`model_bodies`, whose body B holds
+    the six leg and crank bodies frozen at ``t = 0`` and whose frames are calibrated to
+    Appendix B (:mod:`pedalrepro.nonlinear.calibration`).
     """
-    if model == "benchmark":
-        return bicycle_rider(model)
-    s = settings()
-    geom = legs.leg_geometry(s["models"][model]["legs"], s["assumptions"]["leg_com_model"])
-    bench = model_bodies(model, original_seat)[0]
-    _, _, mean, frozen = _leg_revolution(geom, bottom_bracket_m(model), bench["lam"],
-                                         bench["rR"], 2.0 * np.pi, 256)
-    rest = without_legs(model, mean, original_seat)
-    return _set_body_b(rest, *_combine([_body_b(rest)] + list(frozen)))
+    return model_bodies(model, original_seat)[0]

@@ -55,9 +55,13 @@ def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
 
 
 def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
-    """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
-    leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
-    return NonlinearModel(nlp.without_legs(name, mean), nlp.model_options(name, legs=True),
+    """The NP model at one cadence: legs and cranks as bodies with prescribed motion.
+
+    Body B is the NT body without exactly the six bodies frozen at crank angle 0
+    (:func:`parameters.without_legs`); the moving ones are added.
+    """
+    leg_params, spec, _ = nlp.leg_bodies(name, cadence_rad_s)
+    return NonlinearModel(nlp.without_legs(name), nlp.model_options(name, legs=True),
                           leg_params, spec, linear_correction=substitute.linear_correction(name),
                           arm_parameters=nlp.model_bodies(name)[1],
                           steer_limit_rad=nlp.steer_limit_rad(name))

@@ -1,0 +1,296 @@
+"""Calibration of the non-linear models' bicycle frames to thesis Appendix B (Sec 3.1.1.3).
+
+The thesis verified its SPACAR models against A. L. Schwab's linearised matrices (relative
+1e-13) and printed them as Appendix B. Appendix B's HR and CR are exact Whipple models
+(Meijaard et al. 2007) built on rounded geometry and wheel data
+(``data/parameters/thesis_inputs.yaml``); with those inputs, the linearisation fixes seven
+combinations of the twelve rear- and front-frame unknowns (mass, COM x and z, Ixx, Izz, Ixz of
+B and H): a five-parameter family of exact solutions. This module picks the member nearest the
+measured frames:
+
+    minimise   sum_k ((p_k - p0_k) / s_k)^2 over the 12 frame parameters p_k (nominal p0_k:
+               the measured frames), s_k = |p0_k| (masses, COM coordinates, moments of
+               inertia), s_k = sqrt(Ixx0 Izz0) (products of inertia),
+    subject to the 16 entries of the linearisation (legs fixed at crank angle 0) = Appendix B,
+               masses > min_mass_kg, central inertias positive definite and satisfying the
+               triangle inequalities, COMs inside the box ``com_box`` of thesis_inputs.yaml.
+
+The linearisation is linear in the mass distribution for fixed geometry, so it is the
+closed-form Whipple matrices of the assembled benchmark parameters
+(``dtk.bicycle.benchmark_par_to_canonical``) plus, for a model with arm loops, the constant
+contribution of the moving arm particles (the non-linear model's numerical linearisation minus
+the closed form of the same bodies). The solve (SLSQP, then Newton steps on the equalities) is
+checked with the non-linear model's own numerical linearisation
+(:func:`pedalrepro.nonlinear.numeric.benchmark_matrices`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cache
+
+import numpy as np
+
+from .. import params
+from . import parameters as nlp
+
+#: Matrices of the linearised roll-steer equations (Eq 3.1).
+NAMES: tuple[str, ...] = ("M", "C1", "K0", "K2")
+#: Calibrated quantities of each frame (benchmark frame; IByy/IHyy do not enter Eq 3.1).
+FRAME_KEYS: tuple[str, ...] = ("m", "x", "z", "Ixx", "Izz", "Ixz")
+#: Entries that a Whipple model's frames can change independently (Meijaard et al. 2007,
+#: Appendix A); the other nine follow from geometry and wheels (identities).
+FREE_ENTRIES: tuple[tuple[str, int, int], ...] = (
+    ("M", 0, 0), ("M", 0, 1), ("M", 1, 1), ("C1", 0, 1), ("C1", 1, 1), ("K0", 0, 0),
+    ("K0", 0, 1))
+
+
+def whipple_matrices(bench: dict[str, float]) -> dict[str, np.ndarray]:
+    """Closed-form ``M, C1, K0, K2`` of the Whipple model (Meijaard et al. 2007, Appendix A)."""
+    from dtk.bicycle import benchmark_par_to_canonical
+
+    m, c1, k0, k2 = benchmark_par_to_canonical(dict(bench))
+    return {"M": np.asarray(m, float), "C1": np.asarray(c1, float), "K0": np.asarray(k0, float),
+            "K2": np.asarray(k2, float)}
+
+
+def max_relative_difference(mats: dict, target: params.LinearModel) -> float:
+    """Largest ``|a - b|`` over the 16 entries, each scaled by its matrix's largest ``|b|``."""
+    return float(max(np.max(np.abs(np.asarray(mats[k]) - getattr(target, k)))
+                     / np.max(np.abs(getattr(target, k))) for k in NAMES))
+
+
+def frame_vector(part) -> np.ndarray:
+    """``(m, x, z, Ixx, Izz, Ixz)`` of a (mass, COM, central inertia) part."""
+    m, com, i = part
+    return np.array([m, com[0], com[2], i[0, 0], i[2, 2], i[0, 2]])
+
+
+def frame_part(v: np.ndarray, i_yy: float):
+    """(mass, COM, central inertia) from ``(m, x, z, Ixx, Izz, Ixz)`` and ``Iyy``."""
+    inertia = np.array([[v[3], 0.0, v[5]], [0.0, i_yy, 0.0], [v[5], 0.0, v[4]]])
+    return float(v[0]), np.array([v[1], 0.0, v[2]]), inertia
+
+
+def _scales(v0: np.ndarray) -> np.ndarray:
+    s = np.abs(v0).astype(float)
+    s[5] = np.sqrt(v0[3] * v0[4])
+    return s
+
+
+def _validity(v: np.ndarray, i_yy: float, box: dict, min_mass: float) -> np.ndarray:
+    """Inequalities (>= 0) of a physically valid frame: mass, inertia, COM on the bicycle."""
+    m, x, z, ixx, izz, ixz = v
+    return np.array([
+        m - min_mass,
+        ixx, izz, ixx * izz - ixz**2,            # positive definite (with Iyy > 0)
+        ixx + izz - i_yy,                         # triangle inequalities of the principal
+        i_yy**2 - (ixx - izz) ** 2 - 4 * ixz**2,  # moments (p1 + p2 >= Iyy, |p1 - p2| <= Iyy)
+        x - box["x"][0], box["x"][1] - x, z - box["z"][0], box["z"][1] - z])
+
+
+@dataclass
+class Calibration:
+    """Result of :func:`calibrate` for one model.
+
+    ``nominal``/``frames``: ``{"B": part, "H": part}`` before and after (mass, COM, central
+    inertia of the bicycle's rear and front frame); ``distance``: the metric's value;
+    ``residual``: largest relative difference of the closed-form linearisation from Appendix
+    B; ``valid``: every inequality holds.
+    """
+
+    model: str
+    nominal: dict
+    frames: dict
+    distance: float
+    residual: float
+    valid: bool
+    arm_contribution: dict = field(default_factory=dict)
+    rider_shift_m: float = 0.0
+    frames_only: Solution | None = None
+
+    def rows(self) -> list[tuple]:
+        """(model, body, parameter, uncalibrated, calibrated) rows for the table."""
+        out = []
+        for body, label in (("B", "rear frame"), ("H", "front frame")):
+            before, after = frame_vector(self.nominal[body]), frame_vector(self.frames[body])
+            for key, b, a in zip(FRAME_KEYS, before, after, strict=True):
+                out.append((self.model, label, key, float(b), float(a)))
+        return out
+
+
+def _arm_contribution(model: str, asm, frames) -> dict[str, np.ndarray]:
+    """Linearisation of the moving arm particles (zero without arms): numeric - closed form."""
+    if asm.loop is None:
+        return {k: np.zeros((2, 2)) for k in NAMES}
+    from . import arms as _arms
+    from .numeric import NonlinearModel, benchmark_matrices, moore_parameters
+
+    bench = nlp.assemble(asm, frames)
+    values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
+    full = benchmark_matrices(NonlinearModel(bench, nlp.model_options(model),
+                                             arm_parameters=values))
+    closed = whipple_matrices(bench)
+    return {k: full[k] - closed[k] for k in NAMES}
+
+
+def moments(v: np.ndarray) -> np.ndarray:
+    """Mass moments ``(m, m x, m z, Jxx, Jzz, Jxz)`` of a frame (second moments about the rear
+    contact point, tensor convention) from ``(m, x, z, Ixx, Izz, Ixz)``; the linearisation is
+    affine in them (fixed geometry and wheels)."""
+    m, x, z, ixx, izz, ixz = v
+    return np.array([m, m * x, m * z, ixx + m * z**2, izz + m * x**2, ixz - m * x * z])
+
+
+def from_moments(mu: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`moments`."""
+    m = mu[0]
+    x, z = mu[1] / m, mu[2] / m
+    return np.array([m, x, z, mu[3] - m * z**2, mu[4] - m * x**2, mu[5] + m * x * z])
+
+
+@dataclass
+class Solution:
+    """Frames of :func:`solve`, the metric's value, the closed-form residual, validity."""
+
+    frames: dict
+    distance: float
+    residual: float
+    valid: bool
+
+
+def solve(asm, target: params.LinearModel, settings: dict,
+          extra: dict[str, np.ndarray] | None = None, starts: int = 12) -> Solution:
+    """Frames nearest the assembly's measured frames whose linearisation is ``target``.
+
+    The seven free entries are affine in the frames' mass moments (:func:`moments`), so their
+    solution set is an affine subspace ``mu = mu_p + N z`` (``N``: null space, 5 columns); the
+    metric (module docstring) is minimised over ``z`` under the validity inequalities (SLSQP from
+    ``starts`` starting points, the best valid one kept). ``extra``: a constant contribution
+    added to the closed-form matrices (moving arm particles).
+    """
+    from scipy.linalg import null_space
+    from scipy.optimize import minimize
+
+    extra = extra or {k: np.zeros((2, 2)) for k in NAMES}
+    bike = asm.bicycle
+    v0 = np.concatenate([frame_vector(nlp._frame(bike, b)) for b in ("B", "H")])
+    mu0 = np.concatenate([moments(v0[:6]), moments(v0[6:])])
+    iyy = {"B": bike["IByy"], "H": bike["IHyy"]}
+    scale = {k: float(np.max(np.abs(getattr(target, k)))) for k in NAMES}
+    box = settings["com_box"]
+    min_mass = float(settings["min_mass_kg"])
+
+    def frames_of_mu(mu):
+        return {"B": frame_part(from_moments(mu[:6]), iyy["B"]),
+                "H": frame_part(from_moments(mu[6:]), iyy["H"])}
+
+    def mats(mu):
+        m = whipple_matrices(nlp.assemble(asm, frames_of_mu(mu)))
+        return {k: m[k] + extra[k] for k in NAMES}
+
+    def free(mu):
+        m = mats(mu)
+        return np.array([(m[k][i, j] - getattr(target, k)[i, j]) / scale[k]
+                         for k, i, j in FREE_ENTRIES])
+
+    # affine map: exact coefficients from unit steps (round-off only)
+    r0 = free(mu0)
+    step = np.maximum(np.abs(mu0), 1.0)
+    a = np.column_stack([(free(mu0 + h * e) - r0) / h for h, e in zip(step, np.eye(12),
+                                                                       strict=True)])
+    mu_p = mu0 - np.linalg.lstsq(a, r0, rcond=None)[0]
+    n = null_space(a)
+
+    norm = np.concatenate([_scales(v0[:6]), _scales(v0[6:])])
+
+    def distance(z):
+        mu = mu_p + n @ z
+        if mu[0] <= 0 or mu[6] <= 0:
+            return 1e6
+        d = (np.concatenate([from_moments(mu[:6]), from_moments(mu[6:])]) - v0) / norm
+        return float(d @ d)
+
+    def ineq(z):
+        mu = mu_p + n @ z
+        if mu[0] <= 0 or mu[6] <= 0:
+            return np.full(20, -1.0)
+        return np.concatenate([
+            _validity(from_moments(mu[:6]), iyy["B"], box["rear"], min_mass),
+            _validity(from_moments(mu[6:]), iyy["H"], box["front"], min_mass)])
+
+    z_back = np.linalg.lstsq(n, mu0 - mu_p, rcond=None)[0]  # nearest to the measured frames
+    rng = np.random.default_rng(0)
+    best = None
+    for k in range(starts):
+        z_start = z_back + (0 if k == 0 else rng.normal(scale=np.linalg.norm(mu0) * 0.02,
+                                                        size=n.shape[1]))
+        res = minimize(distance, z_start, method="SLSQP",
+                       constraints=[{"type": "ineq", "fun": ineq}],
+                       options={"ftol": 1e-14, "maxiter": 500})
+        ok = bool(np.all(ineq(res.x) >= -1e-10))
+        key = (not ok, distance(res.x))
+        if best is None or key < best[0]:
+            best = (key, res.x)
+    mu = mu_p + n @ best[1]
+    # Newton steps on the free entries (minimum norm) to round-off
+    for _ in range(4):
+        r = free(mu)
+        if np.max(np.abs(r)) < 1e-15:
+            break
+        mu = mu - np.linalg.pinv(a, rcond=1e-12) @ r
+    residual = max_relative_difference(mats(mu), target)
+    return Solution(frames_of_mu(mu), distance(best[1]), residual, not best[0][0])
+
+
+@cache
+def calibrate(model: str) -> Calibration:
+    """Calibrate ``model``'s rear and front frames to its Appendix B matrices (see module).
+
+    Where ``thesis_inputs.yaml`` makes the rider's seat position an unknown (``rider_seat_shift``:
+    the Stratos, whose rider is an assumption), the metric gains ``(d / scale_m)^2`` for a shift
+    ``d`` of the rider down the seat tube, minimised over ``range_m`` (grid, then bounded
+    refinement); ``frames_only`` keeps the solution at ``d = 0``.
+    """
+    settings = nlp.thesis_inputs()["calibration"]
+    bicycle = nlp.settings()["models"][model]["bicycle"]
+    target = params.appendix_b_model(model)
+
+    def at(shift: float, starts: int = 12) -> tuple[Solution, dict, dict]:
+        asm = nlp.assembly(model, False, float(shift))
+        nominal = {b: nlp._frame(asm.bicycle, b) for b in ("B", "H")}
+        extra = _arm_contribution(model, asm, nominal)
+        return solve(asm, target, settings, extra, starts), nominal, extra
+
+    base, nominal, extra = at(0.0)
+    spec = settings.get("rider_seat_shift", {}).get(bicycle)
+    if not spec:
+        return Calibration(model, nominal, base.frames, base.distance, base.residual, base.valid,
+                           extra)
+    from scipy.optimize import minimize_scalar
+
+    scale = float(spec["scale_m"])
+    lo, hi = (float(x) for x in spec["range_m"])
+
+    def total(shift: float, starts: int = 4) -> float:
+        sol = at(shift, starts)[0]
+        return sol.distance + (shift / scale) ** 2 + (0.0 if sol.valid else 1e6)
+
+    grid = np.linspace(lo, hi, int(spec.get("grid", 21)))
+    values = [total(d) for d in grid]
+    k = int(np.argmin(values))
+    res = minimize_scalar(total, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]),
+                          method="bounded", options={"xatol": 1e-5})
+    shift = float(res.x)
+    sol, _, extra = at(shift)
+    return Calibration(model, nominal, sol.frames, sol.distance + (shift / scale) ** 2,
+                       sol.residual, sol.valid, extra, shift, base)
+
+
+def verify(model: str) -> float:
+    """Largest relative difference of the NT model's numerical linearisation from Appendix B."""
+    from .numeric import benchmark_matrices
+    from .sweep import nt_model
+
+    return max_relative_difference(benchmark_matrices(nt_model(model)),
+                                   params.appendix_b_model(model))
