@@ -10,10 +10,14 @@ NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
                      "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
                      "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
-                     "nonlinear/substitute", "nonlinear/arms") + [
+                     "nonlinear/substitute", "nonlinear/arms", "nonlinear/calibration") + [
     f"{PKG}/nonlinear/rhs_driver.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
-                        "data/parameters/legs.yaml"]
+                        "data/parameters/legs.yaml", "data/parameters/thesis_inputs.yaml",
+                        "data/parameters/rider_jason.yaml"]
+# The frames calibrated to Appendix B (rule nonlinear_calibration), read by every rule that
+# builds a non-linear model.
+NONLINEAR_CALIBRATION = interm("nonlinear/calibration.yaml")
 # The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP
 # only when all four have a non-linear model (config nonlinear.models).
 if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
@@ -58,10 +62,30 @@ rule nonlinear_codegen:
         "cat {input} > {output} 2> {log}"
 
 
+rule nonlinear_calibration:
+    input:
+        code=NONLINEAR_CODE,
+        codegen=interm("nonlinear/codegen.txt"),
+        parameters=NONLINEAR_PARAMETERS + ["data/parameters/appendix_b.yaml"],
+    output:
+        table=table("calibration"),
+        checks=table("calibration_checks"),
+        record=NONLINEAR_CALIBRATION,
+    params:
+        models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_calibration"),
+    message:
+        "Calibrating the frames of {params.models} to thesis Appendix B (legs at crank angle 0)"
+    script:
+        "scripts/nonlinear_calibration.py"
+
+
 rule nonlinear_linearisation:
     input:
         code=NONLINEAR_CODE,
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
         parameters=NONLINEAR_PARAMETERS + ["data/parameters/appendix_b.yaml"],
         meijaard="data/published/meijaard2007.yaml",
     output:
@@ -85,6 +109,7 @@ rule nonlinear_time_chunk:
     input:
         code=NONLINEAR_CODE,
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
         parameters=NONLINEAR_PARAMETERS,
     output:
         interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
@@ -107,6 +132,7 @@ rule nonlinear_time_chunk:
 rule nonlinear_time:
     input:
         code=NONLINEAR_CODE,
+        calibration=NONLINEAR_CALIBRATION,
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
@@ -173,6 +199,8 @@ rule nonlinear_figure:
 
 REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
 BOOK_INPUTS.extend([
+    table("calibration"),
+    table("calibration_checks"),
     table("benchmark_linearisation"),
     table("linearisation_vs_appendix_b"),
     table("nonlinear_checks"),

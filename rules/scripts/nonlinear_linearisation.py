@@ -21,12 +21,13 @@ import pandas as pd
 import yaml
 
 from pedalrepro import linear, params, response
-from pedalrepro.nonlinear import arms, substitute, sweep
+from pedalrepro.nonlinear import arms, calibration, substitute, sweep
 from pedalrepro.nonlinear import parameters as nlp
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.simulate import simulate
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
+calibration.use_file(snakemake.input.calibration)  # frames calibrated to Appendix B
 NAMES = ("M", "C1", "K0", "K2")
 
 

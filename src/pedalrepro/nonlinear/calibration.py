@@ -108,6 +108,8 @@ class Calibration:
     arm_contribution: dict = field(default_factory=dict)
     rider_shift_m: float = 0.0
     frames_only: Solution | None = None
+    arm_design: object = None
+    arm_nominal: object = None
 
     def rows(self) -> list[tuple]:
         """(model, body, parameter, uncalibrated, calibrated) rows for the table."""
@@ -243,8 +245,135 @@ def solve(asm, target: params.LinearModel, settings: dict,
     return Solution(frames_of_mu(mu), distance(best[1]), residual, not best[0][0])
 
 
-@cache
+def steer_stiffness_term(mats: dict, lam_rad: float) -> float:
+    """``dK0[1,1] = K0[1,1] - K0[0,1] sin(lam)``: zero for every Whipple model (Meijaard et al.
+    2007: K0[1,1] = -S_A sin(lam), K0[0,1] = -S_A); the arm loops' signature."""
+    return float(mats["K0"][1, 1] - mats["K0"][0, 1] * np.sin(lam_rad))
+
+
+def arm_term(model: str, design) -> float:
+    """dK0[1,1] of ``model`` built with the arm design ``design`` (numerical linearisation;
+    independent of the frames, which satisfy the Whipple identity)."""
+    from . import arms as _arms
+    from .numeric import NonlinearModel, benchmark_matrices, moore_parameters
+
+    asm = nlp.assembly(model, False, 0.0, design)
+    bench = nlp.assemble(asm)
+    values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
+    mats = benchmark_matrices(NonlinearModel(bench, nlp.model_options(model),
+                                             arm_parameters=values))
+    return steer_stiffness_term(mats, bench["lam"])
+
+
+def arm_half_widths(design, ranges: dict) -> np.ndarray:
+    """Half-widths of the plausible ranges of the design's parameters (thesis_inputs.yaml)."""
+    from .arm_design import DESIGN_KEYS
+
+    out = []
+    for key, value in zip(DESIGN_KEYS, design.vector(), strict=True):
+        if key not in ranges:
+            raise KeyError(f"data/parameters/thesis_inputs.yaml: calibration.arm_ranges.{key} "
+                           "missing")
+        r = ranges[key]
+        out.append(float(r["abs"]) if "abs" in r else float(r["rel"]) * abs(value))
+    return np.array(out)
+
+
+def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
+                   tol: float = 1e-13):
+    """Smallest change of the arm design (in units of the range half-widths) giving
+    ``dK0[1,1] = target_term`` (Gauss-Newton on the one equation, minimum norm).
+
+    Returns (design, normalised change per parameter).
+    """
+    r = arm_half_widths(nominal, ranges)
+    v0 = nominal.vector()
+    v = v0.copy()
+    for _ in range(12):
+        f = arm_term(model, nominal.with_vector(v))
+        if abs(f - target_term) < tol:
+            break
+        g = np.array([(arm_term(model, nominal.with_vector(v + h * e)) - f) / h
+                      for h, e in zip(1e-6 * r, np.eye(v.size), strict=True)])
+        # minimise |(v - v0) / r| subject to f + g (v' - v) = target
+        rhs = target_term - f + g @ (v - v0)
+        v = v0 + r**2 * g * rhs / float(g @ (r**2 * g))
+    return nominal.with_vector(v), (v - v0) / r
+
+
+#: Calibrations read by :func:`use_file` (the pipeline's downstream rules), by model.
+_FROM_FILE: dict[str, Calibration] = {}
+
+
+def _part_dict(part) -> dict[str, float]:
+    m, com, i = part
+    return {"m": float(m), "x": float(com[0]), "z": float(com[2]), "Ixx": float(i[0, 0]),
+            "Iyy": float(i[1, 1]), "Izz": float(i[2, 2]), "Ixz": float(i[0, 2])}
+
+
+def _dict_part(d: dict):
+    return frame_part(np.array([d[k] for k in FRAME_KEYS], float), float(d["Iyy"]))
+
+
+def to_dict(cal: Calibration) -> dict:
+    """A YAML-ready record of a calibration (floats at full precision)."""
+    out = {"frames": {b: _part_dict(p) for b, p in cal.frames.items()},
+           "nominal": {b: _part_dict(p) for b, p in cal.nominal.items()},
+           "distance": float(cal.distance), "residual": float(cal.residual),
+           "valid": bool(cal.valid), "rider_shift_m": float(cal.rider_shift_m),
+           "arm_contribution": {k: np.asarray(v, float).tolist()
+                                for k, v in cal.arm_contribution.items()}}
+    return out
+
+
+def from_dict(model: str, d: dict) -> Calibration:
+    """Inverse of :func:`to_dict`."""
+    from .arm_design import ArmDesign
+
+    try:
+        designs = {k: ArmDesign(**d[k]) if d.get(k) else None
+                   for k in ("arm_design", "arm_nominal")}
+        return Calibration(model, {b: _dict_part(p) for b, p in d["nominal"].items()},
+                           {b: _dict_part(p) for b, p in d["frames"].items()},
+                           float(d["distance"]), float(d["residual"]), bool(d["valid"]),
+                           {k: np.array(v, float) for k, v in d["arm_contribution"].items()},
+                           float(d["rider_shift_m"]), arm_design=designs["arm_design"],
+                           arm_nominal=designs["arm_nominal"])
+    except KeyError as err:
+        raise KeyError(f"calibration record of {model}: key {err} missing") from err
+
+
+def save(path, models) -> None:
+    """Write the calibrations of ``models`` to a YAML file (rule nonlinear_calibration)."""
+    import yaml
+
+    with open(path, "w") as fh:
+        yaml.safe_dump({m: to_dict(calibrate(m)) for m in models}, fh, sort_keys=False)
+
+
+def use_file(path) -> list[str]:
+    """Use the calibrations written by :func:`save` (downstream rules: no re-solve).
+
+    Returns the models read. Clears the caches of :mod:`parameters` built before.
+    """
+    import yaml
+
+    with open(path) as fh:
+        data = yaml.safe_load(fh) or {}
+    _FROM_FILE.update({m: from_dict(m, d) for m, d in data.items()})
+    nlp.clear_caches()
+    return sorted(data)
+
+
 def calibrate(model: str) -> Calibration:
+    """The calibration of ``model``: read by :func:`use_file`, else :func:`solve_model`."""
+    if model in _FROM_FILE:
+        return _FROM_FILE[model]
+    return solve_model(model)
+
+
+@cache
+def solve_model(model: str) -> Calibration:
     """Calibrate ``model``'s rear and front frames to its Appendix B matrices (see module).
 
     Where ``thesis_inputs.yaml`` makes the rider's seat position an unknown (``rider_seat_shift``:
@@ -256,8 +385,17 @@ def calibrate(model: str) -> Calibration:
     bicycle = nlp.settings()["models"][model]["bicycle"]
     target = params.appendix_b_model(model)
 
+    design = arm_nominal = None
+    if nlp.has_arms(model):
+        from .arm_design import nominal_design
+
+        arm_nominal = nominal_design(bicycle, nlp.thesis_rider(bicycle)[0])
+        lam = nlp.thesis_bicycle(bicycle)["lam"]
+        term = steer_stiffness_term({"K0": target.K0}, lam)
+        design, _ = calibrate_arms(model, arm_nominal, term, settings["arm_ranges"])
+
     def at(shift: float, starts: int = 12) -> tuple[Solution, dict, dict]:
-        asm = nlp.assembly(model, False, float(shift))
+        asm = nlp.assembly(model, False, float(shift), design)
         nominal = {b: nlp._frame(asm.bicycle, b) for b in ("B", "H")}
         extra = _arm_contribution(model, asm, nominal)
         return solve(asm, target, settings, extra, starts), nominal, extra
@@ -266,7 +404,7 @@ def calibrate(model: str) -> Calibration:
     spec = settings.get("rider_seat_shift", {}).get(bicycle)
     if not spec:
         return Calibration(model, nominal, base.frames, base.distance, base.residual, base.valid,
-                           extra)
+                           extra, arm_design=design, arm_nominal=arm_nominal)
     from scipy.optimize import minimize_scalar
 
     scale = float(spec["scale_m"])
@@ -284,7 +422,7 @@ def calibrate(model: str) -> Calibration:
     shift = float(res.x)
     sol, _, extra = at(shift)
     return Calibration(model, nominal, sol.frames, sol.distance + (shift / scale) ** 2,
-                       sol.residual, sol.valid, extra, shift, base)
+                       sol.residual, sol.valid, extra, shift, base, design, arm_nominal)
 
 
 def verify(model: str) -> float:
@@ -294,3 +432,63 @@ def verify(model: str) -> float:
 
     return max_relative_difference(benchmark_matrices(nt_model(model)),
                                    params.appendix_b_model(model))
+
+
+#: Units of the frame and arm parameters in the table.
+UNITS = {"m": "kg", "x": "m", "z": "m", "Ixx": "kg m^2", "Izz": "kg m^2", "Ixz": "kg m^2",
+         "shoulder_x": "m", "shoulder_y": "m", "shoulder_z": "m", "grip_x": "m", "grip_z": "m",
+         "a": "m", "b": "m", "mass_scale": "-"}
+
+
+def table(models) -> list[tuple]:
+    """Rows (model, body, parameter, unit, uncalibrated, calibrated) of every calibrated value.
+
+    The frames' parameters (benchmark frame, Meijaard et al. 2007) and the rider's seat shift
+    where it is an unknown.
+    """
+    rows = []
+    for model in models:
+        cal = calibrate(model)
+        rows += [(m, body, key, UNITS[key], before, after)
+                 for m, body, key, before, after in cal.rows()]
+        rows.append((model, "rider", "seat shift", "m", 0.0, float(cal.rider_shift_m)))
+        if cal.arm_design is not None:
+            from .arm_design import DESIGN_KEYS
+
+            rows += [(model, "arms", key, UNITS[key], float(b), float(a)) for key, b, a in zip(
+                DESIGN_KEYS, cal.arm_nominal.vector(), cal.arm_design.vector(), strict=True)]
+    return rows
+
+
+def checks(models) -> list[tuple]:
+    """Rows (model, check, value) for the book: metric, residuals, validity, verification."""
+    out = []
+    for model in models:
+        cal = calibrate(model)
+        uncal = whipple_matrices(nlp.bicycle_rider(model, calibrated=False))
+        target = params.appendix_b_model(model)
+        before = max_relative_difference({k: uncal[k] + cal.arm_contribution.get(
+            k, np.zeros((2, 2))) for k in NAMES}, target)
+        out += [(model, "distance", float(cal.distance)),
+                (model, "max_rel_diff_uncalibrated", before),
+                (model, "max_rel_diff_closed_form", float(cal.residual)),
+                (model, "max_rel_diff_nonlinear", verify(model)),
+                (model, "valid", float(cal.valid))]
+    return out
+
+
+def write_results(models, table_csv, checks_csv, record_yaml) -> None:
+    """Rule ``nonlinear_calibration``: the calibration table, its checks and the record the
+    downstream rules read (:func:`use_file`)."""
+    import pandas as pd
+
+    models = [m for m in models if m != "benchmark"]
+    save(record_yaml, models)
+    df = pd.DataFrame(table(models), columns=["model", "body", "parameter", "unit",
+                                              "uncalibrated", "calibrated"])
+    df["change"] = df["calibrated"] - df["uncalibrated"]
+    df["relative_change"] = df["change"] / df["uncalibrated"].abs().where(
+        df["uncalibrated"] != 0)
+    df.to_csv(table_csv, index=False)
+    pd.DataFrame(checks(models), columns=["model", "check", "value"]).to_csv(checks_csv,
+                                                                              index=False)

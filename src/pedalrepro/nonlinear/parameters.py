@@ -226,7 +226,8 @@ class Assembly:
 
 
 @cache
-def assembly(model: str, original_seat: bool = False, rider_shift_m: float = 0.0) -> Assembly:
+def assembly(model: str, original_seat: bool = False, rider_shift_m: float = 0.0,
+             design=None) -> Assembly:
     """The uncalibrated parts of ``model`` (see :class:`Assembly`), thesis Sec 3.1.1.3.
 
     Rider: :func:`thesis_rider` (72 kg), lowered 0.05 m along the seat tube on the city
@@ -262,16 +263,16 @@ def assembly(model: str, original_seat: bool = False, rider_shift_m: float = 0.0
     front: list = []
     loop = None
     if has_arms(model):
-        from . import arms as _arms
+        from . import arm_design, arms as _arms
 
-        yeadon = _arms.yeadon_arms(spec["bicycle"])
-        rear[0] = _subtract(rear[0], [(p.mass, p.com + drop, p.inertia)
-                                      for p in yeadon.segments])
-        loop = _arms.arm_loop(yeadon.shoulder + drop, yeadon)
+        rider_mass = thesis_rider(spec["bicycle"])[0]
+        if design is None:
+            design = arm_design.nominal_design(spec["bicycle"], rider_mass)
+        rear[0] = _subtract(rear[0], arm_design.removed_segments(spec["bicycle"], rider_mass,
+                                                                   drop))
+        loop = arm_design.loop(design, spec["bicycle"], drop)
         at_shoulder, at_grip = _arms.fixed_parts(loop)
-        mirror = np.diag([1.0, -1.0, 1.0])
-        front += [yeadon.hand.as_tuple(), (yeadon.hand.mass, mirror @ yeadon.hand.com,
-                                           mirror @ yeadon.hand.inertia @ mirror)]
+        front += arm_design.hands(design, spec["bicycle"])
         front += [p.as_tuple() for p in at_grip]
         rear += [p.as_tuple() for p in at_shoulder]
     return Assembly(bike, tuple(rear), tuple(front), tuple(frozen), loop)
@@ -294,6 +295,12 @@ def assemble(asm: Assembly, frames: dict | None = None) -> dict[str, float]:
     return _set_body(out, "H", front)
 
 
+def clear_caches() -> None:
+    """Forget the cached model bodies (after :func:`calibration.use_file`)."""
+    for fn in (bicycle_rider, model_bodies, arm_loop):
+        fn.cache_clear()
+
+
 def calibration_of(model: str):
     """The :class:`calibration.Calibration` a model uses; a substitute (HS) that of its body."""
     spec = settings()["models"][model]
@@ -308,7 +315,7 @@ def model_assembly(model: str, original_seat: bool = False, calibrated: bool = T
     if not calibrated:
         return assembly(model, original_seat), None
     cal = calibration_of(model)
-    return assembly(model, original_seat, cal.rider_shift_m), cal.frames
+    return assembly(model, original_seat, cal.rider_shift_m, cal.arm_design), cal.frames
 
 
 def _bicycle_rider(model: str, original_seat: bool, arms: bool, calibrated: bool = True):
