@@ -26,7 +26,7 @@ checked with the non-linear model's own numerical linearisation
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import cache
 
 import numpy as np
@@ -255,14 +255,32 @@ def arm_term(model: str, design) -> float:
     """dK0[1,1] of ``model`` built with the arm design ``design`` (numerical linearisation;
     independent of the frames, which satisfy the Whipple identity)."""
     from . import arms as _arms
-    from .numeric import NonlinearModel, benchmark_matrices, moore_parameters
+    from .numeric import NonlinearModel, moore_parameters
 
     asm = nlp.assembly(model, False, 0.0, design)
     bench = nlp.assemble(asm)
     values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
-    mats = benchmark_matrices(NonlinearModel(bench, nlp.model_options(model),
-                                             arm_parameters=values))
-    return steer_stiffness_term(mats, bench["lam"])
+    nl = NonlinearModel(bench, nlp.model_options(model), arm_parameters=values)
+    return steer_stiffness_term({"K0": static_stiffness(nl)}, bench["lam"])
+
+
+def static_stiffness(nl) -> np.ndarray:
+    """``K0`` of a non-linear model from one complex-step Jacobian at zero speed (the static
+    part of :func:`numeric.benchmark_matrices`: ``g K0 = -M dq''/dq`` at ``v = 0``)."""
+    h = 1e-30
+    x0 = nl.upright_state(0.0).astype(complex)
+    cols = []
+    for k in (0, 2):  # roll, steer
+        dx = x0.copy()
+        dx[k] += 1j * h
+        cols.append(nl._complex_rhs(dx, (0.0, 0.0)).imag[[3, 5]] / h)
+    binv = []
+    for k in range(2):
+        tq = [0.0, 0.0]
+        tq[k] = 1j * h
+        binv.append(nl._complex_rhs(x0, tuple(tq)).imag[[3, 5]] / h)
+    m = np.linalg.inv(np.column_stack(binv))
+    return -m @ np.column_stack(cols) / nl.bench["g"]
 
 
 def arm_half_widths(design, ranges: dict) -> np.ndarray:
@@ -279,26 +297,67 @@ def arm_half_widths(design, ranges: dict) -> np.ndarray:
     return np.array(out)
 
 
+def _yeadon_elbow_flexion_rad(bicycle: str) -> float:
+    """Elbow flexion of BicycleParameters' Yeadon rider with the hands on the grips (original
+    seat): the least flexion the calibrated CF arms keep at the original seat."""
+    from . import arms as _arms
+
+    y = _arms.yeadon_arms(bicycle)
+    u, w = y.elbow - y.shoulder, y.grip - y.elbow
+    return float(np.arccos(u @ w / np.linalg.norm(u) / np.linalg.norm(w)))
+
+
+def elbow_flexion_rad(design, model: str, original_seat: bool) -> float:
+    """Elbow flexion (0: straight arm) of the design's loop at steer 0 at a seat height; NaN
+    when the arm cannot reach the grip."""
+    drop = nlp.rider_drop_m(model, original_seat)
+    s = np.array([design.shoulder_x, design.shoulder_y, design.shoulder_z]) + drop
+    h = np.array([design.grip_x, design.shoulder_y, design.grip_z])
+    d = float(np.linalg.norm(h - s))
+    cos_in = (design.a**2 + design.b**2 - d**2) / (2 * design.a * design.b)
+    return float(np.pi - np.arccos(cos_in)) if abs(cos_in) <= 1 else float("nan")
+
+
 def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
-                   tol: float = 1e-13):
+                   min_flexion_original_rad: float = 0.0):
     """Smallest change of the arm design (in units of the range half-widths) giving
-    ``dK0[1,1] = target_term`` (Gauss-Newton on the one equation, minimum norm).
+    ``dK0[1,1] = target_term``, with the arms still reaching the grips at the original seat
+    height with an elbow flexion of at least ``min_flexion_original_rad`` (Fig E.1 needs the
+    model there). SLSQP; ``dK0`` from the numerical linearisation (forward differences).
 
     Returns (design, normalised change per parameter).
     """
+    from scipy.optimize import minimize
+
     r = arm_half_widths(nominal, ranges)
     v0 = nominal.vector()
-    v = v0.copy()
-    for _ in range(12):
-        f = arm_term(model, nominal.with_vector(v))
-        if abs(f - target_term) < tol:
+
+    def design(z):
+        return nominal.with_vector(v0 + r * z)
+
+    def term(z):
+        return arm_term(model, design(z)) - target_term
+
+    def term_jac(z):
+        f = term(z)
+        return np.array([(term(z + 1e-6 * e) - f) / 1e-6 for e in np.eye(v0.size)])
+
+    def reach(z):
+        flex = elbow_flexion_rad(design(z), model, True)
+        return (flex if np.isfinite(flex) else -1.0) - min_flexion_original_rad
+
+    res = minimize(lambda z: float(z @ z), np.zeros(v0.size), jac=lambda z: 2 * z,
+                   method="SLSQP", constraints=[{"type": "eq", "fun": term, "jac": term_jac},
+                                                {"type": "ineq", "fun": reach}],
+                   options={"ftol": 1e-16, "maxiter": 200})
+    z = res.x
+    for _ in range(6):  # Newton on the equation along the gradient (keeps the optimum)
+        f = term(z)
+        if abs(f) < 1e-13:
             break
-        g = np.array([(arm_term(model, nominal.with_vector(v + h * e)) - f) / h
-                      for h, e in zip(1e-6 * r, np.eye(v.size), strict=True)])
-        # minimise |(v - v0) / r| subject to f + g (v' - v) = target
-        rhs = target_term - f + g @ (v - v0)
-        v = v0 + r**2 * g * rhs / float(g @ (r**2 * g))
-    return nominal.with_vector(v), (v - v0) / r
+        g = term_jac(z)
+        z = z - g * f / float(g @ g)
+    return design(z), z
 
 
 #: Calibrations read by :func:`use_file` (the pipeline's downstream rules), by model.
@@ -323,6 +382,9 @@ def to_dict(cal: Calibration) -> dict:
            "valid": bool(cal.valid), "rider_shift_m": float(cal.rider_shift_m),
            "arm_contribution": {k: np.asarray(v, float).tolist()
                                 for k, v in cal.arm_contribution.items()}}
+    for key, design in (("arm_design", cal.arm_design), ("arm_nominal", cal.arm_nominal)):
+        if design is not None:
+            out[key] = {f.name: float(getattr(design, f.name)) for f in fields(design)}
     return out
 
 
@@ -392,7 +454,8 @@ def solve_model(model: str) -> Calibration:
         arm_nominal = nominal_design(bicycle, nlp.thesis_rider(bicycle)[0])
         lam = nlp.thesis_bicycle(bicycle)["lam"]
         term = steer_stiffness_term({"K0": target.K0}, lam)
-        design, _ = calibrate_arms(model, arm_nominal, term, settings["arm_ranges"])
+        design, _ = calibrate_arms(model, arm_nominal, term, settings["arm_ranges"],
+                                   _yeadon_elbow_flexion_rad(bicycle))
 
     def at(shift: float, starts: int = 12) -> tuple[Solution, dict, dict]:
         asm = nlp.assembly(model, False, float(shift), design)
@@ -479,10 +542,13 @@ def checks(models) -> list[tuple]:
 
 def write_results(models, table_csv, checks_csv, record_yaml) -> None:
     """Rule ``nonlinear_calibration``: the calibration table, its checks and the record the
-    downstream rules read (:func:`use_file`)."""
+    downstream rules read (:func:`use_file`). Substitutes (HS) are not calibrated: they use
+    the frames of their body (HR) plus the linear correction."""
     import pandas as pd
 
-    models = [m for m in models if m != "benchmark"]
+    from . import substitute
+
+    models = [m for m in models if m != "benchmark" and not substitute.is_substitute(m)]
     save(record_yaml, models)
     df = pd.DataFrame(table(models), columns=["model", "body", "parameter", "unit",
                                               "uncalibrated", "calibrated"])

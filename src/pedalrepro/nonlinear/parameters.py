@@ -26,8 +26,9 @@ from . import model as _model
 NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
 
 
+@cache
 def settings() -> dict:
-    """``data/parameters/nonlinear_models.yaml``."""
+    """``data/parameters/nonlinear_models.yaml`` (read once; do not modify)."""
     return params.read_yaml(paths.PARAMETERS / "nonlinear_models.yaml")
 
 
@@ -130,8 +131,10 @@ def has_arms(model: str) -> bool:
     return model != "benchmark" and bool(settings()["models"][model].get("arms"))
 
 
+@cache
 def thesis_inputs() -> dict:
-    """``data/parameters/thesis_inputs.yaml``: the thesis's bicycle, wheel and rider inputs."""
+    """``data/parameters/thesis_inputs.yaml``: the thesis's bicycle, wheel and rider inputs
+    (read once; do not modify)."""
     return params.read_yaml(paths.PARAMETERS / "thesis_inputs.yaml")
 
 
