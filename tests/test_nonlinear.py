@@ -111,7 +111,7 @@ def test_moving_legs_remove_exactly_the_frozen_legs():
     # the frozen bodies are where the prescribed motion puts them at t = 0 (rear-frame x, z)
     lam, r_r = full["lam"], full["rR"]
     s0 = spec(0.0)
-    for k, (mk, ck, _) in enumerate(frozen):
+    for k, (_, ck, _) in enumerate(frozen):
         dx, dz = ck[0], ck[2] + r_r
         assert s0[3 * k] == pytest.approx(dx * np.cos(lam) - dz * np.sin(lam), abs=1e-9)
         assert s0[3 * k + 1] == pytest.approx(dx * np.sin(lam) + dz * np.cos(lam), abs=1e-9)

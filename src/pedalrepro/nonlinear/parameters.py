@@ -266,7 +266,8 @@ def assembly(model: str, original_seat: bool = False, rider_shift_m: float = 0.0
     front: list = []
     loop = None
     if has_arms(model):
-        from . import arm_design, arms as _arms
+        from . import arm_design
+        from . import arms as _arms
 
         rider_mass = thesis_rider(spec["bicycle"])[0]
         if design is None:
