@@ -185,3 +185,32 @@ def test_substitute_uses_the_calibrated_hr_body():
     assert nlp.legs_fixed("HS") == nlp.legs_fixed("HR")
     mats = benchmark_matrices(sweep.nt_model("HS"))
     assert cal.max_relative_difference(mats, params.appendix_b_model("HS")) < 1e-9
+
+
+def test_particle_formula_gives_the_models_steer_stiffness_term():
+    """dK0[1,1] = sum m (-z'' + sin(lam) y') over the moving arm particles (steer derivatives,
+    rear frame upright) equals the non-linear model's K0[1,1] - K0[0,1] sin(lam) for CF's
+    calibrated arms (central differences, h = 1e-4: 1e-6)."""
+    from pedalrepro.nonlinear import arm_design, arms
+
+    c = cal.calibrate("CF")
+    asm = nlp.assembly("CF", False, 0.0, c.arm_design)
+    bench = nlp.assemble(asm)
+    term = arm_design.particle_steer_term(lambda d: arms.moving_particles(asm.loop, d, bench),
+                                          bench["lam"])
+    assert term == pytest.approx(cal.arm_term("CF", c.arm_design), abs=1e-6)
+
+
+def test_straight_arm_layouts_miss_the_hs_term():
+    """Why HS stays a substitute: on Yeadon's straight Stratos arms, hinged elbows are
+    singular (|dK0| > 100 against Appendix B's -0.193) and the two sliding layouts (hand on the
+    bar, shoulder girdle) give the wrong value and need changes of more than 1.5 range
+    half-widths."""
+    ab = params.appendix_b_model("HS")
+    target = cal.steer_stiffness_term({"K0": ab.K0}, nlp.thesis_bicycle("Stratos")["lam"])
+    assert target == pytest.approx(-0.19289, abs=1e-5)
+    rows = dict((k, v) for _, k, v in cal.straight_arm_checks("HS"))
+    assert abs(rows["straight_arms_hinged_elbow_term"]) > 100
+    for kind in ("hand_slides", "shoulder_slides"):
+        assert abs(rows[f"straight_arms_{kind}_term"] - target) > 0.1
+        assert rows[f"straight_arms_{kind}_change"] > 1.5

@@ -110,3 +110,122 @@ def removed_segments(bicycle: str, rider_mass_kg: float, drop: np.ndarray) -> li
 
 def field_names() -> tuple[str, ...]:
     return tuple(f.name for f in fields(ArmDesign))
+
+
+def particle_steer_term(positions, lam_rad: float, h: float = 1e-4) -> float:
+    """``dK0[1,1]`` of particles whose benchmark-frame positions follow the steer angle.
+
+    ``positions(delta) -> [(mass, r), ...]`` with the rear frame upright. For a point fixed in
+    the rear or front frame ``K0[1,1] - K0[0,1] sin(lam)`` vanishes (Meijaard et al. 2007); a
+    particle moving relative to both adds ``m (-z'' + sin(lam) y')`` (z down, derivatives with
+    respect to the steer angle at zero steer; central differences, error ~h^2). Checked against
+    the non-linear model's linearisation for CF's arm loops (tests/test_calibration.py).
+    """
+    p0, pp, pm = positions(0.0), positions(h), positions(-h)
+    out = 0.0
+    for (m, r0), (_, rp), (_, rm) in zip(p0, pp, pm, strict=True):
+        out += m * (-(rp[2] - 2 * r0[2] + rm[2]) / h**2 + np.sin(lam_rad) * (rp[1] - rm[1])
+                    / (2 * h))
+    return float(out)
+
+
+def straight_arm_particles(kind: str, shoulder: np.ndarray, grip: np.ndarray,
+                           parts: list[tuple[float, float]], bench: dict):
+    """Positions of a straight (rigid) arm pair for a steer angle: ``kind`` ``"hand_slides"``
+    (ball joint at the shoulder; the hand slides along the straight bar, i.e. the steered
+    lateral axis, so that the shoulder-hand distance stays), or ``"shoulder_slides"`` (ball
+    joint at the hand; the arm slides through a ball joint at the shoulder: shoulder-girdle
+    protraction/retraction). ``parts``: (mass, distance from the shoulder as a fraction of the
+    nominal shoulder-grip length) of the arm's particles. Neither adds a degree of freedom."""
+    length = float(np.linalg.norm(grip - shoulder))
+    hub = np.array([bench["w"] + bench["c"], 0.0, 0.0])
+
+    def positions(delta: float):
+        out = []
+        for side in (1.0, -1.0):
+            mirror = np.array([1.0, side, 1.0])
+            s, h0 = shoulder * mirror, grip * mirror
+            h = _arms.grip_at_steer(h0, delta, bench)
+            if kind == "hand_slides":
+                e = _arms.grip_at_steer(hub + [0.0, 1.0, 0.0], delta, bench) - hub
+                d = h - s
+                b, c = d @ e, d @ d - length**2
+                roots = (-b + np.sqrt(b * b - c), -b - np.sqrt(b * b - c))
+                h = h + min(roots, key=abs) * e
+                out += [(m, s + f * (h - s)) for m, f in parts]
+            elif kind == "shoulder_slides":
+                u = (s - h) / np.linalg.norm(s - h)
+                out += [(m, h + (1.0 - f) * length * u) for m, f in parts]
+            else:
+                raise ValueError(f"unknown straight-arm layout {kind!r}")
+        return out
+
+    return positions
+
+
+def straight_arm_study(model: str, target_term: float, ranges: dict) -> dict[str, float]:
+    """HS (thesis Fig 3.3a): ``dK0[1,1]`` of straight-arm joint layouts on Yeadon's straight
+    Stratos arms (72 kg rider) and the smallest change, in range half-widths, of shoulder,
+    grip and arm mass that reaches ``target_term`` (damped Gauss-Newton).
+
+    Returns ``{"<layout>_term": .., "<layout>_change": max |change| / half-width}`` for the
+    sliding layouts and ``hinged_elbow_term`` for shoulder/elbow hinges on the nearly straight
+    arm (Yeadon's tilted flexion axis; singular at full extension).
+    """
+    from . import parameters as nlp
+
+    spec = nlp.settings()["models"][model]
+    bicycle = spec["bicycle"]
+    bench = nlp.thesis_bicycle(bicycle)
+    lam = bench["lam"]
+    y = _arms.yeadon_arms(bicycle)
+    scale = nlp.thesis_rider(bicycle)[0] / yeadon_total_mass_kg(bicycle)
+    s0, g0 = y.shoulder, y.grip
+    length = np.linalg.norm(g0 - s0)
+    axis = (g0 - s0) / length
+    segs = [(y.upper.mass, y.upper.com), (y.forearm.mass, y.forearm.com), (y.hand.mass,
+                                                                             y.hand.com)]
+    frac = [float((c - s0) @ axis / length) for _, c in segs]
+    keys = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z", "mass_scale")
+    r = np.array([float(ranges[k]["abs"]) if "abs" in ranges[k]
+                  else float(ranges[k]["rel"]) * scale for k in keys])
+
+    def term(kind: str, z: np.ndarray) -> float:
+        dv = r * z
+        s = s0 + dv[0:3]
+        g = g0 + np.array([dv[3], 0.0, dv[4]])
+        parts = [(m * (scale + dv[5]), f) for (m, _), f in zip(segs, frac, strict=True)]
+        return particle_steer_term(straight_arm_particles(kind, s, g, parts, bench), lam)
+
+    out: dict[str, float] = {}
+    for kind in ("hand_slides", "shoulder_slides"):
+        z = np.zeros(len(keys))
+        out[f"{kind}_term"] = f = term(kind, z)
+        for _ in range(60):  # damped Gauss-Newton (minimum norm) on the one equation
+            g = np.array([(term(kind, z + 1e-5 * e) - f) / 1e-5 for e in np.eye(len(keys))])
+            step = g * (target_term - f + g @ z) / float(g @ g) - z
+            alpha = 1.0
+            while alpha > 1e-3:
+                trial = term(kind, z + alpha * step)
+                if np.isfinite(trial) and abs(trial - target_term) < abs(f - target_term):
+                    break
+                alpha /= 2
+            z, f = z + alpha * step, trial
+            if abs(f - target_term) < 1e-10:
+                break
+        out[f"{kind}_change"] = float(np.max(np.abs(z)))
+        out[f"{kind}_residual"] = term(kind, z) - target_term
+    loop = _arms.arm_loop(s0, y)
+    upper = _arms.rod_particles(y.upper, loop.shoulder, loop.elbow())
+    fore = _arms.rod_particles(y.forearm, loop.elbow(), loop.grip)
+
+    def hinged(delta: float):
+        return [(m * scale, p) for m, p in _arms.moving_particles(
+            _arms.ArmLoop(loop.shoulder, loop.grip, loop.normal, loop.a, loop.b, loop.sign,
+                          upper, fore), delta, bench)]
+
+    out["hinged_elbow_term"] = particle_steer_term(hinged, lam, h=1e-7)
+    out["hinged_elbow_flexion_deg"] = float(np.degrees(np.arccos(
+        (y.elbow - y.shoulder) @ (y.grip - y.elbow) / np.linalg.norm(y.elbow - y.shoulder)
+        / np.linalg.norm(y.grip - y.elbow))))
+    return out

@@ -548,6 +548,7 @@ def write_results(models, table_csv, checks_csv, record_yaml) -> None:
 
     from . import substitute
 
+    subs = [m for m in models if m != "benchmark" and substitute.is_substitute(m)]
     models = [m for m in models if m != "benchmark" and not substitute.is_substitute(m)]
     save(record_yaml, models)
     df = pd.DataFrame(table(models), columns=["model", "body", "parameter", "unit",
@@ -556,5 +557,19 @@ def write_results(models, table_csv, checks_csv, record_yaml) -> None:
     df["relative_change"] = df["change"] / df["uncalibrated"].abs().where(
         df["uncalibrated"] != 0)
     df.to_csv(table_csv, index=False)
-    pd.DataFrame(checks(models), columns=["model", "check", "value"]).to_csv(checks_csv,
-                                                                              index=False)
+    rows = checks(models) + [r for m in subs for r in straight_arm_checks(m)]
+    pd.DataFrame(rows, columns=["model", "check", "value"]).to_csv(checks_csv, index=False)
+
+
+def straight_arm_checks(model: str) -> list[tuple]:
+    """Why HS stays a substitute, as numbers (:func:`arm_design.straight_arm_study`): the
+    straight-arm layouts' dK0[1,1] against Appendix B's and the change they would need."""
+    from .arm_design import straight_arm_study
+
+    bicycle = nlp.settings()["models"][model]["bicycle"]
+    target = steer_stiffness_term({"K0": params.appendix_b_model(model).K0},
+                                  nlp.thesis_bicycle(bicycle)["lam"])
+    study = straight_arm_study(model, target,
+                               nlp.thesis_inputs()["calibration"]["arm_ranges"])
+    return [(model, "appendix_b_steer_stiffness_term", target)] + [
+        (model, f"straight_arms_{k}", float(v)) for k, v in study.items()]
