@@ -10,7 +10,8 @@ NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
                      "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
                      "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
-                     "nonlinear/substitute", "nonlinear/arms", "nonlinear/calibration") + [
+                     "nonlinear/substitute", "nonlinear/arms", "nonlinear/calibration",
+                     "nonlinear/arm_design") + [
     f"{PKG}/nonlinear/rhs_driver.c"]
 NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
                         "data/parameters/legs.yaml", "data/parameters/thesis_inputs.yaml",
