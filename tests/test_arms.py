@@ -11,25 +11,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pedalrepro.nonlinear import arms, sweep
-from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear import arms, bodies, models, rigid
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate, simulate_compiled
+from pedalrepro.nonlinear.settings import model_options
+from pedalrepro.nonlinear.simulate import simulate
 
 NAMES = ("M", "C1", "K0", "K2")
 MOVING = ("arm_m_elbow", "arm_m_upper", "arm_m_fore")
-
-
-def _body(p: dict, b: str):
-    return p[f"m{b}"], np.array([p[f"x{b}"], 0.0, p[f"z{b}"]]), nlp._inertia(p, b)
-
-
-def _set(p: dict, b: str, part) -> dict:
-    m, com, i = part
-    out = dict(p)
-    out.update({f"m{b}": m, f"x{b}": com[0], f"z{b}": com[2], f"I{b}xx": i[0, 0],
-                f"I{b}yy": i[1, 1], f"I{b}zz": i[2, 2], f"I{b}xz": i[0, 2]})
-    return out
 
 
 def test_nominal_posture_closes_the_loop():
@@ -52,8 +40,8 @@ def test_closed_form_keeps_the_loop_closed_at_any_steer(original_seat):
     Reach: 0.41 rad at the 0.72 m seat; 0.046 rad at 0.77 m, where Yeadon's arm is nearly
     straight (elbow 14 deg).
     """
-    loop = nlp.arm_loop("CF", original_seat)
-    bench = nlp.model_bodies("CF", original_seat)[0]
+    loop = bodies.arm_loop("CF", original_seat)
+    bench = bodies.model_bodies("CF", original_seat)[0]
     reach = arms.steer_reach_rad(loop, bench)
     for arm in (loop, loop.mirrored()):
         for delta in reach * np.array([-0.999, -0.5, 0.0, 0.3, 0.999]):
@@ -81,12 +69,12 @@ def test_closed_form_keeps_the_loop_closed_at_any_steer(original_seat):
 def test_runs_end_at_the_arms_reach():
     """A CF run that steers beyond the arms' reach ends like a fall at the steer limit, in the
     compiled and in the solve_ivp integrator, instead of failing on a non-finite state."""
-    nl = sweep.nt_model("CF")
-    reach = arms.steer_reach_rad(nlp.arm_loop("CF"), nlp.model_bodies("CF")[0])
+    nl = models.nt_model("CF")
+    reach = arms.steer_reach_rad(bodies.arm_loop("CF"), bodies.model_bodies("CF")[0])
     assert nl.steer_limit_rad == pytest.approx(0.95 * reach, rel=1e-12)
     x0 = nl.upright_state(1.0, steer_rate_rad_s=3.0)
-    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0),
-                simulate_compiled(nl, 1.0, 5.0, 100.0, x0=x0)):
+    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0, compiled=False),
+                simulate(nl, 1.0, 5.0, 100.0, x0=x0)):
         assert sim.fell and sim.t_end_s < 5.0
         last = np.flatnonzero(np.isfinite(sim.steer_rad))[-1]
         assert abs(sim.steer_rad[last]) <= nl.steer_limit_rad + 1e-9
@@ -113,8 +101,8 @@ def test_rod_particles_reproduce_the_segment():
 def _zero_arm_masses(bench: dict, arm_values: dict, loop) -> tuple[dict, dict]:
     """Route A: the arm model's bodies with the shoulder/grip particles taken back out."""
     rear, front = arms.fixed_parts(loop)
-    b = _set(bench, "B", nlp._subtract(_body(bench, "B"), [p.as_tuple() for p in rear]))
-    b = _set(b, "H", nlp._subtract(_body(b, "H"), [p.as_tuple() for p in front]))
+    b = rigid.with_body(bench, "B", rigid.subtract(rigid.body_part(bench, "B"), rear))
+    b = rigid.with_body(b, "H", rigid.subtract(rigid.body_part(b, "H"), front))
     return b, dict(arm_values) | dict.fromkeys(MOVING, 0.0)
 
 
@@ -123,19 +111,19 @@ def test_massless_arms_equal_the_plain_whipple_model():
     frames): the arm model linearises (1e-9) to the plain Whipple model of the same bodies,
     and the plain model's body B is the assembly's rear frame + rider without arms + frozen
     legs (mass bookkeeping by a second route)."""
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
     a_bench, a_values = _zero_arm_masses(bench, values, loop)
-    route_a = benchmark_matrices(NonlinearModel(a_bench, nlp.model_options("CF"),
+    route_a = benchmark_matrices(NonlinearModel(a_bench, model_options("CF"),
                                                 arm_parameters=a_values))
     route_b = benchmark_matrices(NonlinearModel(a_bench))
     for k in NAMES:
         np.testing.assert_allclose(route_a[k], route_b[k], rtol=1e-9, atol=1e-9, err_msg=k)
-    asm, frames = nlp.model_assembly("CF")
-    rest = [p for p in asm.rear_parts if p[2].any()]  # the shoulder particles have no inertia
-    m = frames["B"][0] + sum(p[0] for p in rest)
+    asm, frames = bodies.model_assembly("CF")
+    rest = [p for p in asm.rear_parts if p.inertia.any()]  # shoulder particles: no inertia
+    m = frames["B"].mass + sum(p.mass for p in rest)
     assert a_bench["mB"] == pytest.approx(m, rel=1e-12)
-    assert sum(p[0] for p in asm.frozen) == pytest.approx(2 * (0.2 + 4.392 + 7.2), rel=1e-12)
+    assert sum(p.mass for p in asm.frozen) == pytest.approx(2 * (0.2 + 4.392 + 7.2), rel=1e-12)
 
 
 def test_arm_mass_matrix_from_finite_differences_of_the_loop():
@@ -147,9 +135,9 @@ def test_arm_mass_matrix_from_finite_differences_of_the_loop():
     rear frame about the rear contact at psi' = c cos(lam) / w delta' (trail; Meijaard et al.
     2007). Tolerance 1e-6 relative: finite-difference error ~ (1e-5)^2.
     """
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
-    opts = nlp.model_options("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
+    opts = model_options("CF")
     full = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=values))["M"]
     massless = dict(values) | dict.fromkeys(MOVING, 0.0)
     none = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=massless))["M"]
@@ -175,7 +163,7 @@ def test_energy_is_conserved_with_arms():
     steer-rate perturbation at 10 m/s grows into a large lean within the 10 s without
     falling. DOP853 at rtol = atol = 1e-10: the drift stays below 1e-9.
     """
-    nl = sweep.nt_model("CF")
+    nl = models.nt_model("CF")
     x0 = nl.upright_state(10.0, steer_rate_rad_s=0.3)
     sim = simulate(nl, 10.0, 10.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853",
                    fall_roll_rad=1.0)
@@ -188,9 +176,9 @@ def test_energy_is_conserved_with_arms():
 
 def test_energy_expression_includes_the_arms():
     """Energy of the arm model minus that with massless moving particles = their KE + PE."""
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
-    opts = nlp.model_options("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
+    opts = model_options("CF")
     with_arms = NonlinearModel(bench, opts, arm_parameters=values)
     without = NonlinearModel(bench, opts, arm_parameters=dict(values) | dict.fromkeys(MOVING, 0.0))
     x = with_arms.upright_state(0.0, steer_rate_rad_s=1.0)
@@ -209,11 +197,11 @@ def test_energy_expression_includes_the_arms():
 
 def test_original_seat_model_is_the_own_cf_model_unlowered():
     """Fig E.1 model: CF's own linearisation with the rider not lowered (hands on the bar)."""
-    cf77 = arms.original_seat_model("CF")
-    want = benchmark_matrices(sweep.nt_model("CF", original_seat=True))
+    cf77 = models.original_seat_model("CF")
+    want = benchmark_matrices(models.nt_model("CF", original_seat=True))
     for k in NAMES:
         np.testing.assert_allclose(getattr(cf77, k), want[k], rtol=1e-12, err_msg=k)
-    low, high = nlp.arm_loop("CF"), nlp.arm_loop("CF", original_seat=True)
+    low, high = bodies.arm_loop("CF"), bodies.arm_loop("CF", original_seat=True)
     # the shoulders are 0.05 m higher along the seat tube; the grip does not move
     assert np.linalg.norm(high.shoulder - low.shoulder) == pytest.approx(0.05, rel=1e-12)
     np.testing.assert_array_equal(high.grip, low.grip)
@@ -223,4 +211,4 @@ def test_original_seat_model_is_the_own_cf_model_unlowered():
 
 def test_original_seat_only_for_the_city_bicycle():
     with pytest.raises(ValueError, match="city bicycle"):
-        arms.original_seat_model("HS")
+        models.original_seat_model("HS")

@@ -7,8 +7,8 @@ calibration.yaml: the record the downstream rules read (pedalrepro.nonlinear.cal
 
 import sys
 
-from pedalrepro.nonlinear import calibration
+from pedalrepro.nonlinear import calibration_report
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-calibration.write_results(snakemake.params.models, snakemake.output.table,
-                          snakemake.output.checks, snakemake.output.record)
+calibration_report.write_results(snakemake.params.models, snakemake.output.table,
+                                 snakemake.output.checks, snakemake.output.record)

@@ -22,6 +22,8 @@ from dataclasses import astuple, dataclass, fields, replace
 import numpy as np
 
 from . import arms as _arms
+from . import bicycle_data
+from .rigid import RigidPart
 
 #: Calibratable fields of :class:`ArmDesign`, in order.
 DESIGN_KEYS: tuple[str, ...] = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z",
@@ -54,10 +56,8 @@ class ArmDesign:
 
 def yeadon_total_mass_kg(bicycle: str) -> float:
     """Mass of BicycleParameters' Yeadon rider Jason (with ``bicycle``'s configuration), kg."""
-    from . import parameters as nlp
-
-    alone, both = nlp._bicycleparameters(bicycle, True)
-    return float(both["mB"] - alone["mB"])
+    data = bicycle_data.load(bicycle, rider=True)
+    return float(data.with_rider["mB"] - data.frame["mB"])
 
 
 def nominal_design(bicycle: str, rider_mass_kg: float) -> ArmDesign:
@@ -90,22 +90,21 @@ def loop(design: ArmDesign, bicycle: str, drop: np.ndarray) -> _arms.ArmLoop:
     return out
 
 
-def hands(design: ArmDesign, bicycle: str) -> list[tuple]:
+def hands(design: ArmDesign, bicycle: str) -> list[RigidPart]:
     """Both hands (Yeadon, mass-scaled) moved with the grip to the shoulder's width."""
     y = _arms.yeadon_arms(bicycle)
     shift = np.array([design.grip_x, design.shoulder_y, design.grip_z]) - y.grip
-    m, com, inertia = y.hand.mass * design.mass_scale, y.hand.com + shift, \
-        y.hand.inertia * design.mass_scale
-    mirror = np.diag([1.0, -1.0, 1.0])
-    return [(m, com, inertia), (m, mirror @ com, mirror @ inertia @ mirror)]
+    hand = RigidPart(y.hand.mass * design.mass_scale, y.hand.com + shift,
+                     y.hand.inertia * design.mass_scale)
+    return [hand, hand.mirrored()]
 
 
-def removed_segments(bicycle: str, rider_mass_kg: float, drop: np.ndarray) -> list[tuple]:
+def removed_segments(bicycle: str, rider_mass_kg: float, drop: np.ndarray) -> list[RigidPart]:
     """The four Yeadon arm segments (hands included) at their pose, scaled to the rider's mass:
     what the rigid rider loses when its arms become loops."""
     y = _arms.yeadon_arms(bicycle)
     s = rider_mass_kg / yeadon_total_mass_kg(bicycle)
-    return [(p.mass * s, p.com + drop, p.inertia * s) for p in y.segments]
+    return [RigidPart(p.mass * s, p.com + drop, p.inertia * s) for p in y.segments]
 
 
 def field_names() -> tuple[str, ...]:
@@ -161,71 +160,3 @@ def straight_arm_particles(kind: str, shoulder: np.ndarray, grip: np.ndarray,
         return out
 
     return positions
-
-
-def straight_arm_study(model: str, target_term: float, ranges: dict) -> dict[str, float]:
-    """HS (thesis Fig 3.3a): ``dK0[1,1]`` of straight-arm joint layouts on Yeadon's straight
-    Stratos arms (72 kg rider) and the smallest change, in range half-widths, of shoulder,
-    grip and arm mass that reaches ``target_term`` (damped Gauss-Newton).
-
-    Returns ``{"<layout>_term": .., "<layout>_change": max |change| / half-width}`` for the
-    sliding layouts and ``hinged_elbow_term`` for shoulder/elbow hinges on the nearly straight
-    arm (Yeadon's tilted flexion axis; singular at full extension).
-    """
-    from . import parameters as nlp
-
-    spec = nlp.settings()["models"][model]
-    bicycle = spec["bicycle"]
-    bench = nlp.thesis_bicycle(bicycle)
-    lam = bench["lam"]
-    y = _arms.yeadon_arms(bicycle)
-    scale = nlp.thesis_rider(bicycle)[0] / yeadon_total_mass_kg(bicycle)
-    s0, g0 = y.shoulder, y.grip
-    length = np.linalg.norm(g0 - s0)
-    axis = (g0 - s0) / length
-    segs = [(y.upper.mass, y.upper.com), (y.forearm.mass, y.forearm.com), (y.hand.mass,
-                                                                             y.hand.com)]
-    frac = [float((c - s0) @ axis / length) for _, c in segs]
-    keys = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z", "mass_scale")
-    r = np.array([float(ranges[k]["abs"]) if "abs" in ranges[k]
-                  else float(ranges[k]["rel"]) * scale for k in keys])
-
-    def term(kind: str, z: np.ndarray) -> float:
-        dv = r * z
-        s = s0 + dv[0:3]
-        g = g0 + np.array([dv[3], 0.0, dv[4]])
-        parts = [(m * (scale + dv[5]), f) for (m, _), f in zip(segs, frac, strict=True)]
-        return particle_steer_term(straight_arm_particles(kind, s, g, parts, bench), lam)
-
-    out: dict[str, float] = {}
-    for kind in ("hand_slides", "shoulder_slides"):
-        z = np.zeros(len(keys))
-        out[f"{kind}_term"] = f = term(kind, z)
-        for _ in range(60):  # damped Gauss-Newton (minimum norm) on the one equation
-            g = np.array([(term(kind, z + 1e-5 * e) - f) / 1e-5 for e in np.eye(len(keys))])
-            step = g * (target_term - f + g @ z) / float(g @ g) - z
-            alpha = 1.0
-            while alpha > 1e-3:
-                trial = term(kind, z + alpha * step)
-                if np.isfinite(trial) and abs(trial - target_term) < abs(f - target_term):
-                    break
-                alpha /= 2
-            z, f = z + alpha * step, trial
-            if abs(f - target_term) < 1e-10:
-                break
-        out[f"{kind}_change"] = float(np.max(np.abs(z)))
-        out[f"{kind}_residual"] = term(kind, z) - target_term
-    loop = _arms.arm_loop(s0, y)
-    upper = _arms.rod_particles(y.upper, loop.shoulder, loop.elbow())
-    fore = _arms.rod_particles(y.forearm, loop.elbow(), loop.grip)
-
-    def hinged(delta: float):
-        return [(m * scale, p) for m, p in _arms.moving_particles(
-            _arms.ArmLoop(loop.shoulder, loop.grip, loop.normal, loop.a, loop.b, loop.sign,
-                          upper, fore), delta, bench)]
-
-    out["hinged_elbow_term"] = particle_steer_term(hinged, lam, h=1e-7)
-    out["hinged_elbow_flexion_deg"] = float(np.degrees(np.arccos(
-        (y.elbow - y.shoulder) @ (y.grip - y.elbow) / np.linalg.norm(y.elbow - y.shoulder)
-        / np.linalg.norm(y.grip - y.elbow))))
-    return out

@@ -32,7 +32,9 @@ from functools import cache
 import numpy as np
 
 from .. import params
-from . import parameters as nlp
+from . import assembly as asmb
+from .rigid import RigidPart, body_part
+from .settings import has_arms, model_options, model_spec, thesis_inputs
 
 #: Matrices of the linearised roll-steer equations (Eq 3.1).
 NAMES: tuple[str, ...] = ("M", "C1", "K0", "K2")
@@ -60,25 +62,25 @@ def max_relative_difference(mats: dict, target: params.LinearModel) -> float:
                      / np.max(np.abs(getattr(target, k))) for k in NAMES))
 
 
-def frame_vector(part) -> np.ndarray:
-    """``(m, x, z, Ixx, Izz, Ixz)`` of a (mass, COM, central inertia) part."""
-    m, com, i = part
-    return np.array([m, com[0], com[2], i[0, 0], i[2, 2], i[0, 2]])
+def frame_vector(part: RigidPart) -> np.ndarray:
+    """``(m, x, z, Ixx, Izz, Ixz)`` of a frame."""
+    i = part.inertia
+    return np.array([part.mass, part.com[0], part.com[2], i[0, 0], i[2, 2], i[0, 2]])
 
 
-def frame_part(v: np.ndarray, i_yy: float):
-    """(mass, COM, central inertia) from ``(m, x, z, Ixx, Izz, Ixz)`` and ``Iyy``."""
+def frame_part(v: np.ndarray, i_yy: float) -> RigidPart:
+    """The frame with ``(m, x, z, Ixx, Izz, Ixz)`` and ``Iyy``."""
     inertia = np.array([[v[3], 0.0, v[5]], [0.0, i_yy, 0.0], [v[5], 0.0, v[4]]])
-    return float(v[0]), np.array([v[1], 0.0, v[2]]), inertia
+    return RigidPart(float(v[0]), np.array([v[1], 0.0, v[2]]), inertia)
 
 
-def _scales(v0: np.ndarray) -> np.ndarray:
+def scales(v0: np.ndarray) -> np.ndarray:
     s = np.abs(v0).astype(float)
     s[5] = np.sqrt(v0[3] * v0[4])
     return s
 
 
-def _validity(v: np.ndarray, i_yy: float, box: dict, min_mass: float) -> np.ndarray:
+def validity(v: np.ndarray, i_yy: float, box: dict, min_mass: float) -> np.ndarray:
     """Inequalities (>= 0) of a physically valid frame: mass, inertia, COM on the bicycle."""
     m, x, z, ixx, izz, ixz = v
     return np.array([
@@ -128,9 +130,9 @@ def _arm_contribution(model: str, asm, frames) -> dict[str, np.ndarray]:
     from . import arms as _arms
     from .numeric import NonlinearModel, benchmark_matrices, moore_parameters
 
-    bench = nlp.assemble(asm, frames)
+    bench = asmb.assemble(asm, frames)
     values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
-    full = benchmark_matrices(NonlinearModel(bench, nlp.model_options(model),
+    full = benchmark_matrices(NonlinearModel(bench, model_options(model),
                                              arm_parameters=values))
     closed = whipple_matrices(bench)
     return {k: full[k] - closed[k] for k in NAMES}
@@ -176,7 +178,7 @@ def solve(asm, target: params.LinearModel, settings: dict,
 
     extra = extra or {k: np.zeros((2, 2)) for k in NAMES}
     bike = asm.bicycle
-    v0 = np.concatenate([frame_vector(nlp._frame(bike, b)) for b in ("B", "H")])
+    v0 = np.concatenate([frame_vector(body_part(bike, b)) for b in ("B", "H")])
     mu0 = np.concatenate([moments(v0[:6]), moments(v0[6:])])
     iyy = {"B": bike["IByy"], "H": bike["IHyy"]}
     scale = {k: float(np.max(np.abs(getattr(target, k)))) for k in NAMES}
@@ -188,7 +190,7 @@ def solve(asm, target: params.LinearModel, settings: dict,
                 "H": frame_part(from_moments(mu[6:]), iyy["H"])}
 
     def mats(mu):
-        m = whipple_matrices(nlp.assemble(asm, frames_of_mu(mu)))
+        m = whipple_matrices(asmb.assemble(asm, frames_of_mu(mu)))
         return {k: m[k] + extra[k] for k in NAMES}
 
     def free(mu):
@@ -204,7 +206,7 @@ def solve(asm, target: params.LinearModel, settings: dict,
     mu_p = mu0 - np.linalg.lstsq(a, r0, rcond=None)[0]
     n = null_space(a)
 
-    norm = np.concatenate([_scales(v0[:6]), _scales(v0[6:])])
+    norm = np.concatenate([scales(v0[:6]), scales(v0[6:])])
 
     def distance(z):
         mu = mu_p + n @ z
@@ -218,8 +220,8 @@ def solve(asm, target: params.LinearModel, settings: dict,
         if mu[0] <= 0 or mu[6] <= 0:
             return np.full(20, -1.0)
         return np.concatenate([
-            _validity(from_moments(mu[:6]), iyy["B"], box["rear"], min_mass),
-            _validity(from_moments(mu[6:]), iyy["H"], box["front"], min_mass)])
+            validity(from_moments(mu[:6]), iyy["B"], box["rear"], min_mass),
+            validity(from_moments(mu[6:]), iyy["H"], box["front"], min_mass)])
 
     z_back = np.linalg.lstsq(n, mu0 - mu_p, rcond=None)[0]  # nearest to the measured frames
     rng = np.random.default_rng(0)
@@ -257,10 +259,10 @@ def arm_term(model: str, design) -> float:
     from . import arms as _arms
     from .numeric import NonlinearModel, moore_parameters
 
-    asm = nlp.assembly(model, False, 0.0, design)
-    bench = nlp.assemble(asm)
+    asm = asmb.assembly(model, False, 0.0, design)
+    bench = asmb.assemble(asm)
     values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
-    nl = NonlinearModel(bench, nlp.model_options(model), arm_parameters=values)
+    nl = NonlinearModel(bench, model_options(model), arm_parameters=values)
     return steer_stiffness_term({"K0": static_stiffness(nl)}, bench["lam"])
 
 
@@ -310,7 +312,7 @@ def _yeadon_elbow_flexion_rad(bicycle: str) -> float:
 def elbow_flexion_rad(design, model: str, original_seat: bool) -> float:
     """Elbow flexion (0: straight arm) of the design's loop at steer 0 at a seat height; NaN
     when the arm cannot reach the grip."""
-    drop = nlp.rider_drop_m(model, original_seat)
+    drop = asmb.rider_drop_m(model, original_seat)
     s = np.array([design.shoulder_x, design.shoulder_y, design.shoulder_z]) + drop
     h = np.array([design.grip_x, design.shoulder_y, design.grip_z])
     d = float(np.linalg.norm(h - s))
@@ -364,8 +366,8 @@ def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
 _FROM_FILE: dict[str, Calibration] = {}
 
 
-def _part_dict(part) -> dict[str, float]:
-    m, com, i = part
+def _part_dict(part: RigidPart) -> dict[str, float]:
+    m, com, i = part.mass, part.com, part.inertia
     return {"m": float(m), "x": float(com[0]), "z": float(com[2]), "Ixx": float(i[0, 0]),
             "Iyy": float(i[1, 1]), "Izz": float(i[2, 2]), "Ixz": float(i[0, 2])}
 
@@ -416,15 +418,20 @@ def save(path, models) -> None:
 def use_file(path) -> list[str]:
     """Use the calibrations written by :func:`save` (downstream rules: no re-solve).
 
-    Returns the models read. Clears the caches of :mod:`parameters` built before.
+    Returns the models read. Call it before building any model (or then call
+    :func:`.bodies.clear_caches`).
     """
     import yaml
 
     with open(path) as fh:
         data = yaml.safe_load(fh) or {}
     _FROM_FILE.update({m: from_dict(m, d) for m, d in data.items()})
-    nlp.clear_caches()
     return sorted(data)
+
+
+def forget_files() -> None:
+    """Drop the calibrations read by :func:`use_file` (back to solving on demand)."""
+    _FROM_FILE.clear()
 
 
 def calibrate(model: str) -> Calibration:
@@ -443,23 +450,23 @@ def solve_model(model: str) -> Calibration:
     ``d`` of the rider down the seat tube, minimised over ``range_m`` (grid, then bounded
     refinement); ``frames_only`` keeps the solution at ``d = 0``.
     """
-    settings = nlp.thesis_inputs()["calibration"]
-    bicycle = nlp.settings()["models"][model]["bicycle"]
+    settings = thesis_inputs()["calibration"]
+    bicycle = model_spec(model)["bicycle"]
     target = params.appendix_b_model(model)
 
     design = arm_nominal = None
-    if nlp.has_arms(model):
+    if has_arms(model):
         from .arm_design import nominal_design
 
-        arm_nominal = nominal_design(bicycle, nlp.thesis_rider(bicycle)[0])
-        lam = nlp.thesis_bicycle(bicycle)["lam"]
+        arm_nominal = nominal_design(bicycle, asmb.thesis_rider(bicycle).mass)
+        lam = asmb.thesis_bicycle(bicycle)["lam"]
         term = steer_stiffness_term({"K0": target.K0}, lam)
         design, _ = calibrate_arms(model, arm_nominal, term, settings["arm_ranges"],
                                    _yeadon_elbow_flexion_rad(bicycle))
 
     def at(shift: float, starts: int = 12) -> tuple[Solution, dict, dict]:
-        asm = nlp.assembly(model, False, float(shift), design)
-        nominal = {b: nlp._frame(asm.bicycle, b) for b in ("B", "H")}
+        asm = asmb.assembly(model, False, float(shift), design)
+        nominal = {b: body_part(asm.bicycle, b) for b in ("B", "H")}
         extra = _arm_contribution(model, asm, nominal)
         return solve(asm, target, settings, extra, starts), nominal, extra
 
@@ -488,88 +495,69 @@ def solve_model(model: str) -> Calibration:
                        sol.residual, sol.valid, extra, shift, base, design, arm_nominal)
 
 
-def verify(model: str) -> float:
-    """Largest relative difference of the NT model's numerical linearisation from Appendix B."""
-    from .numeric import benchmark_matrices
-    from .sweep import nt_model
+def straight_arm_study(model: str, target_term: float, ranges: dict) -> dict[str, float]:
+    """HS (thesis Fig 3.3a): ``dK0[1,1]`` of straight-arm joint layouts on Yeadon's straight
+    Stratos arms (72 kg rider) and the smallest change, in range half-widths, of shoulder,
+    grip and arm mass that reaches ``target_term`` (damped Gauss-Newton).
 
-    return max_relative_difference(benchmark_matrices(nt_model(model)),
-                                   params.appendix_b_model(model))
-
-
-#: Units of the frame and arm parameters in the table.
-UNITS = {"m": "kg", "x": "m", "z": "m", "Ixx": "kg m^2", "Izz": "kg m^2", "Ixz": "kg m^2",
-         "shoulder_x": "m", "shoulder_y": "m", "shoulder_z": "m", "grip_x": "m", "grip_z": "m",
-         "a": "m", "b": "m", "mass_scale": "-"}
-
-
-def table(models) -> list[tuple]:
-    """Rows (model, body, parameter, unit, uncalibrated, calibrated) of every calibrated value.
-
-    The frames' parameters (benchmark frame, Meijaard et al. 2007) and the rider's seat shift
-    where it is an unknown.
+    Returns ``{"<layout>_term": .., "<layout>_change": max |change| / half-width}`` for the
+    sliding layouts and ``hinged_elbow_term`` for shoulder/elbow hinges on the nearly straight
+    arm (Yeadon's tilted flexion axis; singular at full extension).
     """
-    rows = []
-    for model in models:
-        cal = calibrate(model)
-        rows += [(m, body, key, UNITS[key], before, after)
-                 for m, body, key, before, after in cal.rows()]
-        rows.append((model, "rider", "seat shift", "m", 0.0, float(cal.rider_shift_m)))
-        if cal.arm_design is not None:
-            from .arm_design import DESIGN_KEYS
+    from . import arms as _arms
+    from .arm_design import particle_steer_term, straight_arm_particles, yeadon_total_mass_kg
 
-            rows += [(model, "arms", key, UNITS[key], float(b), float(a)) for key, b, a in zip(
-                DESIGN_KEYS, cal.arm_nominal.vector(), cal.arm_design.vector(), strict=True)]
-    return rows
+    bicycle = model_spec(model)["bicycle"]
+    bench = asmb.thesis_bicycle(bicycle)
+    lam = bench["lam"]
+    y = _arms.yeadon_arms(bicycle)
+    scale = asmb.thesis_rider(bicycle).mass / yeadon_total_mass_kg(bicycle)
+    s0, g0 = y.shoulder, y.grip
+    length = np.linalg.norm(g0 - s0)
+    axis = (g0 - s0) / length
+    segs = [(y.upper.mass, y.upper.com), (y.forearm.mass, y.forearm.com), (y.hand.mass,
+                                                                             y.hand.com)]
+    frac = [float((c - s0) @ axis / length) for _, c in segs]
+    keys = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z", "mass_scale")
+    r = np.array([float(ranges[k]["abs"]) if "abs" in ranges[k]
+                  else float(ranges[k]["rel"]) * scale for k in keys])
 
+    def term(kind: str, z: np.ndarray) -> float:
+        dv = r * z
+        s = s0 + dv[0:3]
+        g = g0 + np.array([dv[3], 0.0, dv[4]])
+        parts = [(m * (scale + dv[5]), f) for (m, _), f in zip(segs, frac, strict=True)]
+        return particle_steer_term(straight_arm_particles(kind, s, g, parts, bench), lam)
 
-def checks(models) -> list[tuple]:
-    """Rows (model, check, value) for the book: metric, residuals, validity, verification."""
-    out = []
-    for model in models:
-        cal = calibrate(model)
-        uncal = whipple_matrices(nlp.bicycle_rider(model, calibrated=False))
-        target = params.appendix_b_model(model)
-        before = max_relative_difference({k: uncal[k] + cal.arm_contribution.get(
-            k, np.zeros((2, 2))) for k in NAMES}, target)
-        out += [(model, "distance", float(cal.distance)),
-                (model, "max_rel_diff_uncalibrated", before),
-                (model, "max_rel_diff_closed_form", float(cal.residual)),
-                (model, "max_rel_diff_nonlinear", verify(model)),
-                (model, "valid", float(cal.valid))]
+    out: dict[str, float] = {}
+    for kind in ("hand_slides", "shoulder_slides"):
+        z = np.zeros(len(keys))
+        out[f"{kind}_term"] = f = term(kind, z)
+        for _ in range(60):  # damped Gauss-Newton (minimum norm) on the one equation
+            g = np.array([(term(kind, z + 1e-5 * e) - f) / 1e-5 for e in np.eye(len(keys))])
+            step = g * (target_term - f + g @ z) / float(g @ g) - z
+            alpha = 1.0
+            while alpha > 1e-3:
+                trial = term(kind, z + alpha * step)
+                if np.isfinite(trial) and abs(trial - target_term) < abs(f - target_term):
+                    break
+                alpha /= 2
+            z, f = z + alpha * step, trial
+            if abs(f - target_term) < 1e-10:
+                break
+        out[f"{kind}_change"] = float(np.max(np.abs(z)))
+        out[f"{kind}_residual"] = term(kind, z) - target_term
+    loop = _arms.arm_loop(s0, y)
+    upper = _arms.rod_particles(y.upper, loop.shoulder, loop.elbow())
+    fore = _arms.rod_particles(y.forearm, loop.elbow(), loop.grip)
+
+    def hinged(delta: float):
+        return [(m * scale, p) for m, p in _arms.moving_particles(
+            _arms.ArmLoop(loop.shoulder, loop.grip, loop.normal, loop.a, loop.b, loop.sign,
+                          upper, fore), delta, bench)]
+
+    out["hinged_elbow_term"] = particle_steer_term(hinged, lam, h=1e-7)
+    out["hinged_elbow_flexion_deg"] = float(np.degrees(np.arccos(
+        (y.elbow - y.shoulder) @ (y.grip - y.elbow) / np.linalg.norm(y.elbow - y.shoulder)
+        / np.linalg.norm(y.grip - y.elbow))))
     return out
-
-
-def write_results(models, table_csv, checks_csv, record_yaml) -> None:
-    """Rule ``nonlinear_calibration``: the calibration table, its checks and the record the
-    downstream rules read (:func:`use_file`). Substitutes (HS) are not calibrated: they use
-    the frames of their body (HR) plus the linear correction."""
-    import pandas as pd
-
-    from . import substitute
-
-    subs = [m for m in models if m != "benchmark" and substitute.is_substitute(m)]
-    models = [m for m in models if m != "benchmark" and not substitute.is_substitute(m)]
-    save(record_yaml, models)
-    df = pd.DataFrame(table(models), columns=["model", "body", "parameter", "unit",
-                                              "uncalibrated", "calibrated"])
-    df["change"] = df["calibrated"] - df["uncalibrated"]
-    df["relative_change"] = df["change"] / df["uncalibrated"].abs().where(
-        df["uncalibrated"] != 0)
-    df.to_csv(table_csv, index=False)
-    rows = checks(models) + [r for m in subs for r in straight_arm_checks(m)]
-    pd.DataFrame(rows, columns=["model", "check", "value"]).to_csv(checks_csv, index=False)
-
-
-def straight_arm_checks(model: str) -> list[tuple]:
-    """Why HS stays a substitute, as numbers (:func:`arm_design.straight_arm_study`): the
-    straight-arm layouts' dK0[1,1] against Appendix B's and the change they would need."""
-    from .arm_design import straight_arm_study
-
-    bicycle = nlp.settings()["models"][model]["bicycle"]
-    target = steer_stiffness_term({"K0": params.appendix_b_model(model).K0},
-                                  nlp.thesis_bicycle(bicycle)["lam"])
-    study = straight_arm_study(model, target,
-                               nlp.thesis_inputs()["calibration"]["arm_ranges"])
-    return [(model, "appendix_b_steer_stiffness_term", target)] + [
-        (model, f"straight_arms_{k}", float(v)) for k, v in study.items()]
