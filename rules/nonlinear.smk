@@ -11,6 +11,9 @@ NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 # Integration settings of the NT/NP runs (keyword arguments of nonlinear.sweep.RunSettings).
 NONLINEAR_SETTINGS = dict(TIME_SAMPLES, **cfg("nonlinear", "rtol", "atol", "fall_roll_rad",
                                               "method"))
+# The frames calibrated to Appendix B (rule nonlinear_calibration), read by every rule that
+# builds a non-linear model (pedalrepro.nonlinear.calibration.use_file).
+NONLINEAR_CALIBRATION = interm("nonlinear/calibration.yaml")
 # The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP
 # only when all four have a non-linear model (config nonlinear.models).
 if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
@@ -55,10 +58,29 @@ rule nonlinear_codegen:
         "cat {input} > {output} 2> {log}"
 
 
+rule nonlinear_calibration:
+    input:
+        code=code_inputs("scripts/nonlinear_calibration.py"),
+        codegen=interm("nonlinear/codegen.txt"),
+    output:
+        table=table("calibration"),
+        checks=table("calibration_checks"),
+        record=NONLINEAR_CALIBRATION,
+    params:
+        models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_calibration"),
+    message:
+        "Calibrating the frames of {params.models} to thesis Appendix B (legs at crank angle 0)"
+    script:
+        "scripts/nonlinear_calibration.py"
+
+
 rule nonlinear_linearisation:
     input:
         code=code_inputs("scripts/nonlinear_linearisation.py"),
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
         meijaard="data/published/meijaard2007.yaml",
     output:
         benchmark=table("benchmark_linearisation"),
@@ -82,6 +104,7 @@ rule nonlinear_time_chunk:
     input:
         code=code_inputs("scripts/nonlinear_time.py"),
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
     output:
         interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
     params:
@@ -108,6 +131,7 @@ rule nonlinear_time_chunk:
 rule nonlinear_time:
     input:
         code=code_inputs("scripts/nonlinear_merge.py"),
+        calibration=NONLINEAR_CALIBRATION,
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
@@ -192,6 +216,8 @@ rule nonlinear_figure:
 
 REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
 BOOK_INPUTS.extend([
+    table("calibration"),
+    table("calibration_checks"),
     table("benchmark_linearisation"),
     table("linearisation_vs_appendix_b"),
     table("nonlinear_checks"),

@@ -8,9 +8,10 @@ import sys
 import numpy as np
 
 from pedalrepro import evaluation, response
-from pedalrepro.nonlinear import sweep
+from pedalrepro.nonlinear import calibration, sweep
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
+calibration.use_file(snakemake.input.calibration)  # frames calibrated to Appendix B
 method, name = snakemake.wildcards.method, snakemake.wildcards.model
 v, w = response.speed_cadence_grid(**snakemake.params.grid)
 parts = [np.load(p) for p in snakemake.input.chunks]

@@ -59,16 +59,16 @@ for name in models:
         "nonlinear.appendix_b.{model}", float(worst["rel_diff"]), model=name, body=body,
         shown=f"max rel diff {worst['rel_diff']:.3g} ({worst['matrix']}[{worst['i']},"
               f"{worst['j']}])",
-        note="Rider from BicycleParameters' Yeadon model of Jason, not Schwab et al. (2012)'s "
-        "segment model (not published in machine-readable form)"
-        + ("; no arms on the handlebars: the substitute adds Appendix B minus this body as "
-           "linear terms" if name == "HS" else "")
-        + ("; arm loops (shoulder flexion-rotation, elbow hinge, hands on the handlebar) with "
-           "Yeadon's arm segments" if name == "CF" else "") + "; see book/deviations.md."))
+        note="The thesis's geometry and wheels, the 72 kg rider of Moore et al. (2009), the "
+        "bicycle frames calibrated to Appendix B (rule nonlinear_calibration, calibration.csv)"
+        + ("; HS: the calibrated HR body without arms, to which the substitute adds Appendix B "
+           "minus this body as linear terms" if name == "HS" else "")
+        + ("; arm loops (shoulder flexion, elbow hinge, hands on the handlebar) with calibrated "
+           "arm geometry" if name == "CF" else "") + "; see book/deviations.md."))
 rows.append(check(
     "nonlinear.hs_arm_loops", None, shown="substitute" if "HS" in models else "not built",
     note="Straight arms with ball joints at shoulder and hand lock the steering of a rigid trunk; "
-    "the thesis's joint layout is not given. NT/NP use a substitute: the rigid-rider body plus "
+    "the thesis's joint layout is not given. NT/NP use a substitute: the calibrated HR body plus "
     "linear terms that make its linearisation Appendix B's; see book/deviations.md, Model "
     "substitutes."))
 rows.append(check(
@@ -78,7 +78,8 @@ rows.append(check(
     note="Arms hinged at shoulders and elbows, hands on the handlebar (Schwab et al. 2012, Fig "
     "3.4): each arm an upper arm and a forearm as rods of three particles, elbow in closed form "
     "from the steer angle, hands lumped into the front frame; no added degree of freedom. Yeadon "
-    "segments of rider Jason (BicycleParameters); see data/parameters/nonlinear_models.yaml."))
+    "segments of rider Jason (BicycleParameters), grip width = shoulder width, arm geometry "
+    "calibrated to Appendix B; see data/parameters/nonlinear_models.yaml."))
 e77 = np.load(snakemake.input.eigen_e_1)
 ranges77 = e77["stable_ranges_m_s"].reshape(-1, 2)
 stable77 = ("none" if ranges77.size == 0 else
@@ -97,7 +98,8 @@ rows.append(check(
     "nonlinear.cf_original_seat", bool(c77 < 0 or ranges77.size),
     shown=f"capsize Re at 1 m/s {c72:.3f} -> {c77:.3f} 1/s; self-stable range at 0.77 m: "
           f"{stable77}",
-    note="The project's own CF (arm loops) linearised at both seat heights: at 0.77 m the rider "
+    note="The project's calibrated CF (arm loops) linearised at both seat heights: at 0.77 m the "
+    "rider "
     "without arms, shoulders included, is not lowered and the hands stay on the handlebar, so "
     f"the arm posture follows the seat. Both panels: own model. {str(e77['note'])}"))
 report.write_rows(rows, snakemake.output.report)
