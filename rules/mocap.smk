@@ -7,7 +7,6 @@ MOCAP_CODE = pkg(
     "mocap/__init__", "mocap/fetch", "mocap/reader", "mocap/kinematics", "mocap/cadence",
     "mocap/runs", "spectral",
 )
-MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)]
 
 
 rule mocap_runs:
@@ -73,25 +72,8 @@ rule validation_tables:
         "scripts/mocap_tables.py"
 
 
-rule validation_figures:
-    input:
-        per_run=table("validation_runs"),
-        series=interm("mocap/series.npz"),
-        source=interm("mocap/source.json"),
-        code=pkg("validation", "spectral", "figures/__init__", "figures/validation"),
-    output:
-        MOCAP_FIGURES,
-    log:
-        logfile("validation_figures"),
-    message:
-        "Figures 4.2-4.11 (measured vs open-loop model)"
-    script:
-        "scripts/mocap_figures.py"
-
-
 REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
 BOOK_INPUTS.extend(
     [table("table_4_1"), table("table_4_2"), table("validation_runs"),
      interm("mocap/source.json"), interm("mocap/series.npz")]
-    + MOCAP_FIGURES
 )
