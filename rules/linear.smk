@@ -128,7 +128,8 @@ rule linear_table_4_1:
 
 rule linear_report:
     input:
-        code=pkg("report", "linear", "response", "evaluation", "gears", "disturbance", "legs"),
+        code=pkg("report", "linear", "response", "evaluation", "gears", "disturbance", "legs",
+                 "figdata", "momentum"),
         eigen=table("eigen_summary"),
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),

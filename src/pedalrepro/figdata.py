@@ -19,13 +19,15 @@ from .response import eigen_speeds, forcing, particular_solution, ps_grid, selec
 
 def gear_grid(cfg: Mapping) -> dict[str, np.ndarray]:
     """Fig 3.8: the PS grid, gear ratios, the normal-cycling ellipse and the reference point
-    (city-bicycle wheel, Sec 3.1.3.2)."""
+    (city-bicycle wheel, Sec 3.1.3.2); the wheel radius of each model's bicycle (Fig 3.35)."""
     lin = cfg["linear"]
     v, w = ps_grid(cfg)
     ev, ew = gears.normal_cycling_ellipse(lin["normal_cycling_speed_kmh"],
                                           lin["normal_cycling_cadence_rpm"])
+    radii = {f"wheel_radius_{m}_m": np.float64(gears.wheel_radius_m(linear.bicycle_of(m)))
+             for m in ("benchmark", "HS", "CF", "HR", "CR")}
     return dict(speed_m_s=v, omega_rad_s=w, gear_ratios=np.asarray(lin["gear_ratios"], float),
-                wheel_radius_m=np.float64(gears.wheel_radius_m("city")),
+                wheel_radius_m=np.float64(gears.wheel_radius_m("city")), **radii,
                 ellipse_speed_m_s=np.asarray(ev), ellipse_omega_rad_s=np.asarray(ew),
                 reference=np.array([lin["reference_speed_m_s"],
                                     lin["reference_cadence_rpm"] * np.pi / 30]))

@@ -78,9 +78,12 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
 
 def synthetic_stamp(fig: matplotlib.figure.Figure, reason: str = "") -> None:
     """Write a visible SYNTHETIC label on a figure built from the synthetic stand-in data."""
+    import textwrap
+
     text = "SYNTHETIC DATA (stand-in for the treadmill data)"
     if reason:
         text += f": {reason}"
+    text = textwrap.fill(text, 80)  # inside the figure's width at 9 pt bold
     if fig.get_suptitle():
         fig.text(0.5, 0.995, text, ha="center", va="top", color="crimson", fontsize=9,
                  fontweight="bold")

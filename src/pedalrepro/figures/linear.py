@@ -483,10 +483,11 @@ def _model_rows(n: int, height_per_row: float = 2.1):
     return fig, axes
 
 
-def fig_amplitude_maps(ps: Mapping[str, Arrays], models: Sequence[str], grid: Arrays,
-                       wheel_radius: Mapping[str, float]) -> Figure:
+def fig_amplitude_maps(ps: Mapping[str, Arrays], models: Sequence[str], grid: Arrays) -> Figure:
     """Fig 3.35: PS roll (left) and steer (right) amplitude maps of each model (rows), GR 1 and
-    4 (dashed), the normal-cycling ellipse (solid)."""
+    4 (dashed, each model's wheel), the normal-cycling ellipse (solid); ``grid``:
+    :func:`pedalrepro.figdata.gear_grid`."""
+    wheel_radius = {m: float(grid[f"wheel_radius_{m}_m"]) for m in models}
     fig, axes = _model_rows(len(models))
     ev, ew = grid["ellipse_speed_m_s"], grid["ellipse_omega_rad_s"]
     band = (float(np.min(grid["gear_ratios"])), float(np.max(grid["gear_ratios"])))
@@ -563,8 +564,9 @@ def rd_colorbar(fig: Figure, mappable, axes, label: str = "RD (%)"):
 
 def _rd_map(ax, v, w, rd, eig=None, title="", log: bool = True):
     if log:
-        shown = np.clip(np.where(np.isfinite(rd), rd, RD_LOG_LEVELS_PERCENT[-1]),
-                        RD_LOG_LEVELS_PERCENT[0], RD_LOG_LEVELS_PERCENT[-1])
+        # NaN (no forcing: zero reference amplitude) stays blank, inf at the top level
+        shown = np.clip(np.asarray(rd, float), RD_LOG_LEVELS_PERCENT[0],
+                        RD_LOG_LEVELS_PERCENT[-1])
         cs = ax.contourf(v, w, shown.T, levels=RD_LOG_LEVELS_PERCENT, norm=rd_norm(),
                          cmap="magma")
     else:

@@ -79,6 +79,8 @@ def fig_2_2(data: Mapping[str, np.ndarray], snapshots: int = 4) -> Figure:
     side.set_title("side view (right leg, sagittal plane)")
     side.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     front.invert_yaxis()
+    front.yaxis.tick_right()  # away from the 3D view's z label
+    front.yaxis.set_label_position("right")
     front.set_xlabel("y right (m)")
     front.set_ylabel("z down (m)")
     front.set_title("front view (both legs)")

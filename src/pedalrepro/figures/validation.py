@@ -169,7 +169,8 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
             ax.set_xlabel("")
             if i:
                 ax.set_ylabel("")
-    fig.supxlabel("forward speed v (m/s)", fontsize=9)
+    for ax in axes[-1]:
+        ax.set_xlabel("forward speed v (m/s)")
     for mappable, label in (
             (plt.cm.ScalarMappable(plt.Normalize(LEVELS[0], LEVELS[-1]), "viridis"),
              "map: log$_{10}$ model amplitude (rad)"),
