@@ -23,6 +23,11 @@ from typing import Any
 import numpy as np
 
 from .. import paths
+from . import linear, nonlinear, section2, validation  # static imports: the rules' code inputs
+from .page import save, style
+
+_MODULES = {"linear": linear, "nonlinear": nonlinear, "section2": section2,
+            "validation": validation}
 
 #: Time-solution methods of the thesis; NT and NP are optional inputs (the non-linear part).
 TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
@@ -68,10 +73,8 @@ class FigureSpec:
     complete_when: tuple[tuple[str, str], ...] = ()
 
     def callable(self) -> Callable:
-        import importlib
-
         module, func = self.function.rsplit(".", 1)
-        return getattr(importlib.import_module(f"pedalrepro.figures.{module}"), func)
+        return getattr(_MODULES[module], func)
 
 
 FIGURES: dict[str, FigureSpec] = {}
@@ -264,8 +267,6 @@ def load_inputs(fid: str, root: str | Path | None = None) -> dict[str, Any]:
 def draw(fid: str, root: str | Path | None = None):
     """Draw figure ``fid`` from the files under ``root`` (default: the results folder), in the
     project's style; returns the matplotlib Figure."""
-    from . import style
-
     s = spec(fid)
     args = load_inputs(fid, root)
     with style():
@@ -275,8 +276,6 @@ def draw(fid: str, root: str | Path | None = None):
 def write(fids: Sequence[str], root: str | Path | None = None) -> list[Path]:
     """Draw and save figures (PNG and PDF, :func:`pedalrepro.figures.save`) into the results
     folder ``root``; what the figure rules call."""
-    from . import save
-
     written = []
     for fid in fids:
         written.append(save(draw(fid, root), paths.figure(fid, root)))

@@ -20,7 +20,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from .. import spectral
-from . import synthetic_stamp
+from .page import synthetic_stamp
 from .palette import MEASURED_COLOUR, model_colour
 
 SYSTEM_FIGURES = {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
