@@ -141,9 +141,9 @@ def _sym_limits(ax, curves, lo: float, hi: float, t: np.ndarray) -> None:
 
 def _time_rows_fig(n_rows: int = 6, map_height: float = 2.8, row_height: float = 1.25):
     """A figure at the book width: a map on top, then ``n_rows`` rows of (whole run, zoom)."""
-    fig = plt.figure(figsize=(WIDTH_IN, map_height + 0.6 + n_rows * row_height),
+    fig = plt.figure(figsize=(WIDTH_IN, map_height + 0.75 + n_rows * row_height),
                      layout="constrained")
-    gs = fig.add_gridspec(n_rows + 2, 2, height_ratios=[map_height, 0.35] + [row_height] * n_rows,
+    gs = fig.add_gridspec(n_rows + 2, 2, height_ratios=[map_height, 0.5] + [row_height] * n_rows,
                           width_ratios=[1, 2.3])
     ax_map = fig.add_subplot(gs[0, :])
     ax_leg = fig.add_subplot(gs[1, :])
@@ -154,8 +154,10 @@ def _time_rows_fig(n_rows: int = 6, map_height: float = 2.8, row_height: float =
 
 
 def _legend_row(ax_leg, handles_by_label: dict) -> None:
+    n = len(handles_by_label)
     ax_leg.legend(list(handles_by_label.values()), list(handles_by_label), loc="center",
-                  ncols=min(len(handles_by_label), 4), frameon=False, fontsize=8)
+                  ncols=n if n <= 3 else (n + 1) // 2, frameon=False, fontsize=8,
+                  columnspacing=1.2, handlelength=2.5)
 
 
 def _time_panels(rows, t: np.ndarray, curves_per_point: list[dict[str, np.ndarray]],
@@ -342,7 +344,7 @@ def fig_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coo
     """
     prefix = "series" if series else "example"
     fig = plt.figure(figsize=(WIDTH_IN, 9.6), layout="constrained")
-    gs = fig.add_gridspec(5, 2, height_ratios=[2.8, 0.35, 1.6, 1.6, 1.6])
+    gs = fig.add_gridspec(5, 2, height_ratios=[2.8, 0.5, 1.6, 1.6, 1.6])
     ax_map = fig.add_subplot(gs[0, :])
     ax_leg = fig.add_subplot(gs[1, :])
     ax_leg.axis("off")
