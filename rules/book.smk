@@ -50,4 +50,6 @@ rule book:
         "jupyter-book build --all -W -n --keep-going book/ --path-output {params.out} > {log} 2>&1"
         " || {{ tail -n 40 {log} >&2; exit 1; }}"
         " && mkdir -p {params.out}/_build/html/figures"
-        " && cp {params.figures}/*.png {params.figures}/*.pdf {params.out}/_build/html/figures/"
+        " && {{ test ! -d {params.figures}"
+        " || find {params.figures} -maxdepth 1 -name '*.p[nd][gf]'"
+        " -exec cp {{}} {params.out}/_build/html/figures/ + ; }}"
