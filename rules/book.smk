@@ -39,7 +39,7 @@ rule book:
         BOOK_INDEX,
     params:
         out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
-        figures=str(_paths.figures(R)),
+        figures=lambda wildcards: str(_paths.figures(R)),
     log:
         logfile("book"),
     message:

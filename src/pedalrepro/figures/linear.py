@@ -168,7 +168,8 @@ def _time_panels(rows, t: np.ndarray, curves_per_point: list[dict[str, np.ndarra
     for k, ((ax_all, ax_zoom), curves) in enumerate(zip(rows, curves_per_point, strict=True)):
         for name, y in curves.items():
             style = METHOD_STYLE[name]
-            ax_all.plot(t, y, **{**style, "lw": min(style["lw"], 0.8)}, label=name)
+            ax_all.plot(t, y, **{**style, "lw": min(style["lw"], 0.8)}, label=name,
+                        rasterized=True)  # long runs: a small PDF
             (h,) = ax_zoom.plot(t, y, **style, label=name)
             handles.setdefault(METHOD_LABEL[name], h)
         lo, hi = zoom_window(t, [y for n, y in curves.items() if n != "PS"], omegas[k],
