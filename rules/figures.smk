@@ -4,6 +4,7 @@
 # rules' files is computed by the two figure-data rules below (pedalrepro.figdata), never while
 # drawing. TIME_METHODS (rules/linear.smk, extended by rules/nonlinear.smk) says which optional
 # time-solution files (NT, NP) this build has.
+from pedalrepro import figdata as FIGDATA
 from pedalrepro.figures import registry as FIGURE_REGISTRY
 
 FIGURE_IDS = FIGURE_REGISTRY.ids()
@@ -22,7 +23,7 @@ rule linear_figure_data:
     output:
         **{name: interm(f"figures/{name}.npz") for name in LINEAR_FIGURE_DATA},
     params:
-        linear=config["linear"],
+        linear={k: config["linear"][k] for k in FIGDATA.LINEAR_KEYS},
     log:
         logfile("linear_figure_data"),
     message:
@@ -40,7 +41,8 @@ rule validation_figure_data:
     output:
         interm("figures/validation.npz"),
     params:
-        linear=config["linear"],
+        linear={k: config["linear"][k] for k in ("ps_speed_step_m_s", "ps_speed_max_m_s",
+                                                 "ps_omega_step_rad_s", "ps_omega_max_rad_s")},
         examples=config["mocap"]["example_runs_per_system"],
     log:
         logfile("validation_figure_data"),

@@ -159,3 +159,25 @@ def test_every_chapter_uses_one_model_colour():
     with figures.style():
         fig = figlin.fig_gear_sections(sections, ["HS"])
     assert {ln.get_color() for ln in fig.axes[0].get_lines()} == {palette.MODEL_COLOURS["HS"]}
+
+
+def test_figure_data_gear_sections_follow_the_gear_line():
+    """Fig 3.36 data: along GR 2 the cadence is v / (GR r_wheel) (Sec 3.1.3.2), and the drawn
+    amplitude is the PS amplitude of the cadence harmonic there."""
+    from pedalrepro import figdata, gears, linear, response
+
+    v = np.array([2.0, 4.0, 6.0])
+    d = figdata.gear_sections(["HS"], v, [2.0], 12.0, (1, 3, 5))
+    r_wheel = gears.wheel_radius_m(linear.bicycle_of("HS"))
+    w = v / (2.0 * r_wheel)
+    np.testing.assert_allclose(d["HS_2_speed_m_s"], v[w <= 12.0])
+    roll, _ = response.particular_solution(linear.linear_model("HS"), v[1], w[1],
+                                           response.forcing("HS", harmonics=(1, 3, 5)))
+    assert d["HS_2_roll_rad"][1] == pytest.approx(abs(np.ravel(roll)[0]), rel=1e-12)
+
+
+def test_figure_data_names_a_missing_config_key(tmp_path):
+    from pedalrepro import figdata
+
+    with pytest.raises(KeyError, match="linear.ps_speed_step_m_s"):
+        figdata.write_linear({"gear_grid": str(tmp_path / "g.npz")}, {"harmonics": [1]})

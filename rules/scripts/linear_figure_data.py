@@ -5,4 +5,4 @@ import sys
 from pedalrepro import figdata
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-figdata.write_linear(dict(snakemake.output.items()), {"linear": snakemake.params.linear})
+figdata.write_linear(dict(snakemake.output.items()), snakemake.params.linear)

@@ -6,4 +6,4 @@ from pedalrepro import figdata
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 figdata.write_validation(snakemake.input.per_run, snakemake.input.series, snakemake.output[0],
-                         {"linear": snakemake.params.linear}, int(snakemake.params.examples))
+                         snakemake.params.linear, int(snakemake.params.examples))
