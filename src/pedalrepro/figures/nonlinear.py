@@ -8,6 +8,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
+from .palette import model_colour
+
 
 def fig_3_34(maps: Mapping[str, np.ndarray],
              eigen: Mapping[str, Mapping[str, np.ndarray]] | None = None) -> plt.Figure:
@@ -70,7 +72,8 @@ def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]
     for name, group in table.groupby("model", sort=False):
         idx = [k for k, r in enumerate(table.itertuples()) if r.model == name]
-        ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name)
+        ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name,
+                color=model_colour(str(name)))
     ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=8)
     ax.set_ylabel("|project - App. B| / |App. B| (%)")
     ax.legend(fontsize=8, ncols=2)
