@@ -52,4 +52,4 @@ rule book:
         " && mkdir -p {params.out}/_build/html/figures"
         " && {{ test ! -d {params.figures}"
         " || find {params.figures} -maxdepth 1 -name '*.p[nd][gf]'"
-        " -exec cp {{}} {params.out}/_build/html/figures/ + ; }}"
+        " -exec cp -t {params.out}/_build/html/figures/ {{}} + ; }}"

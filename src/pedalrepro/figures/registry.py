@@ -145,17 +145,17 @@ def _time_figure(fid: str, function: str, model: str, coord: str, group: str, fi
 for _k, (_m, _c) in enumerate([(m, c) for m in MODELS4 for c in ("roll", "steer")]):
     _ps = {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}
     _time_figure(f"fig_3_{10 + _k}", "linear.fig_ps_time", _m, _c, "linear_time", _ps)
-    _time_figure(f"fig_3_{20 + _k}", "linear.fig_fft", _m, _c, "linear_time", _ps)
+    _time_figure(f"fig_3_{20 + _k}", "linear.fig_fft", _m, _c, "linear_spectra", _ps)
 for _fid, _m, _c in (("fig_g_1", "HS", "roll"), ("fig_g_2", "CF", "roll"),
                      ("fig_g_3", "CF", "steer"), ("fig_g_4", "HR", "roll"),
                      ("fig_g_5", "HR", "steer"), ("fig_g_6", "CR", "roll")):
     _time_figure(_fid, "linear.fig_ps_time", _m, _c, "linear_time",
                  {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}, single_harmonic=True)
-for _fid, _func, _m in (("fig_3_18", "linear.fig_series_time", "HS"),
-                        ("fig_3_19", "linear.fig_series_time", "CR"),
-                        ("fig_3_28", "linear.fig_series_fft", "HS"),
-                        ("fig_3_29", "linear.fig_series_fft", "CR")):
-    _time_figure(_fid, _func, _m, "steer", "linear_time",
+for _fid, _func, _m, _g in (("fig_3_18", "linear.fig_series_time", "HS", "linear_time"),
+                            ("fig_3_19", "linear.fig_series_time", "CR", "linear_time"),
+                            ("fig_3_28", "linear.fig_series_fft", "HS", "linear_spectra"),
+                            ("fig_3_29", "linear.fig_series_fft", "CR", "linear_spectra")):
+    _time_figure(_fid, _func, _m, "steer", _g,
                  {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}, series=True)
 # Fig H.6's caption repeats "roll, HR" (Fig 3.32); the set of appendix figures implies HR steer.
 for _fid, _m, _c in (("fig_3_32", "HR", "roll"), ("fig_3_33", "CF", "roll"),
