@@ -8,22 +8,18 @@ from pedalrepro import figdata as FIGDATA
 from pedalrepro.figures import registry as FIGURE_REGISTRY
 
 FIGURE_IDS = FIGURE_REGISTRY.ids()
-FIGURE_CODE = pkg("figures/__init__", "figures/registry", "figures/palette", "figures/section2",
-                  "figures/linear", "figures/nonlinear", "figures/validation", "spectral",
-                  "gears", "evaluation", "momentum") + [f"{PKG}/pedalrepro.mplstyle"]
+FIGURE_CODE = code_inputs("scripts/figures.py")
 LINEAR_FIGURE_DATA = ["gear_grid", "cam_HS", "gear_sections_models", "gear_sections_benchmark"] + [
     f"neglected_{m}" for m in ("HS", "CF", "HR", "CR")]
 
 
 rule linear_figure_data:
     input:
-        code=pkg("figdata", "gears", "linear", "momentum", "response", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/benchmark.yaml",
-                    "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_figure_data.py"),
     output:
         **{name: interm(f"figures/{name}.npz") for name in LINEAR_FIGURE_DATA},
     params:
-        linear={k: config["linear"][k] for k in FIGDATA.LINEAR_KEYS},
+        linear=cfg("linear", *FIGDATA.LINEAR_KEYS),
     log:
         logfile("linear_figure_data"),
     message:
@@ -34,15 +30,14 @@ rule linear_figure_data:
 
 rule validation_figure_data:
     input:
-        code=pkg("figdata", "validation", "response", "linear", "disturbance", "legs"),
+        code=code_inputs("scripts/validation_figure_data.py"),
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
         interm("figures/validation.npz"),
     params:
-        linear={k: config["linear"][k] for k in ("ps_speed_step_m_s", "ps_speed_max_m_s",
-                                                 "ps_omega_step_rad_s", "ps_omega_max_rad_s")},
+        linear=cfg("linear", "ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
+                   "ps_omega_max_rad_s"),
         examples=config["mocap"]["example_runs_per_system"],
     log:
         logfile("validation_figure_data"),

@@ -9,17 +9,15 @@ LINEAR_TIME_MODELS = [m for m in LINEAR_MODELS if m != "benchmark"]
 # (included after this file) extends it with "NT", "NP"; inputs read it lazily.
 TIME_METHODS = ["LA", "LN"]
 
-
 rule linear_eigen:
     input:
-        code=pkg("linear"),
-        appendix_b="data/parameters/appendix_b.yaml",
-        benchmark="data/parameters/benchmark.yaml",
+        code=code_inputs("scripts/linear_eigen.py"),
     output:
         table=table("eigen_summary"),
         sweeps=expand(interm("eigen/{model}.npz"), model=LINEAR_MODELS),
     params:
         models=LINEAR_MODELS,
+        eigen_speeds=EIGEN_SPEEDS,
     log:
         logfile("linear_eigen"),
     message:
@@ -30,12 +28,14 @@ rule linear_eigen:
 
 rule linear_ps:
     input:
-        code=pkg("linear", "response", "momentum", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_ps.py"),
     output:
         npz=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
     params:
         models=LINEAR_MODELS,
+        grid=PS_GRID,
+        harmonics=HARMONICS,
+        reference=cfg("linear", "reference_speed_m_s", "reference_cadence_rpm"),
     threads: 1
     log:
         logfile("linear_ps"),
@@ -50,13 +50,16 @@ rule linear_ps:
 # LA is exact and vectorised (seconds per model on the thesis grid): one job for all models.
 rule linear_time_la:
     input:
-        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_time.py"),
     output:
         npz=expand(interm("time/LA_{model}.npz"), model=LINEAR_TIME_MODELS),
     params:
         method="LA",
         models=LINEAR_TIME_MODELS,
+        grid=TIME_GRID,
+        samples=TIME_SAMPLES,
+        harmonics=HARMONICS,
+        fall_roll_rad=config["linear"]["fall_roll_rad"],
     threads: 1
     log:
         logfile("linear_time_LA"),
@@ -71,13 +74,17 @@ rule linear_time_la:
 # LN integrates every run (minutes per model on the thesis grid): one job per model.
 rule linear_time_ln:
     input:
-        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_time.py"),
     output:
         npz=interm("time/LN_{model}.npz"),
     params:
         method="LN",
         models=lambda wc: [wc.model],
+        grid=TIME_GRID,
+        samples=TIME_SAMPLES,
+        harmonics=HARMONICS,
+        fall_roll_rad=config["linear"]["fall_roll_rad"],
+        tolerances=cfg("linear", "rtol", "atol", "tight_rtol", "tight_atol"),
     wildcard_constraints:
         model="|".join(LINEAR_TIME_MODELS),
     threads: 1
@@ -93,7 +100,7 @@ rule linear_time_ln:
 
 rule linear_rd:
     input:
-        code=pkg("linear", "response", "evaluation", "gears", "disturbance", "legs"),
+        code=code_inputs("scripts/linear_rd.py"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_TIME_MODELS),
         la=expand(interm("time/LA_{model}.npz"), model=LINEAR_TIME_MODELS),
         ln=expand(interm("time/LN_{model}.npz"), model=LINEAR_TIME_MODELS),
@@ -103,6 +110,8 @@ rule linear_rd:
         table=table("rd_summary"),
     params:
         models=LINEAR_TIME_MODELS,
+        harmonics=HARMONICS,
+        normal_cycling=cfg("linear", "normal_cycling_speed_kmh", "normal_cycling_cadence_rpm"),
     log:
         logfile("linear_rd"),
     message:
@@ -113,11 +122,12 @@ rule linear_rd:
 
 rule linear_table_4_1:
     input:
-        code=pkg("linear", "response", "disturbance", "legs"),
+        code=code_inputs("scripts/linear_table_4_1.py"),
         runs="data/parameters/validation_runs.yaml",
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
         table("table_4_1_model"),
+    params:
+        harmonics=HARMONICS,
     log:
         logfile("linear_table_4_1"),
     message:
@@ -128,17 +138,21 @@ rule linear_table_4_1:
 
 rule linear_report:
     input:
-        code=pkg("report", "linear", "response", "evaluation", "gears", "disturbance", "legs",
-                 "figdata", "momentum"),
+        code=code_inputs("scripts/linear_report.py"),
         eigen=table("eigen_summary"),
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
-        published=["data/published/thesis_values.yaml", "data/published/meijaard2007.yaml"],
+        meijaard="data/published/meijaard2007.yaml",
     output:
         f"{R}/tables/report/linear.csv",
     params:
         models=LINEAR_MODELS,
+        profile=config["profile"],
+        harmonics=HARMONICS,
+        eigen_speeds=EIGEN_SPEEDS,
+        lin=cfg("linear", "normal_cycling_speed_kmh", "normal_cycling_cadence_rpm", "gear_ratios",
+                "ps_omega_max_rad_s", "duration_s", "sample_rate_hz", "rtol", "atol"),
     log:
         logfile("linear_report"),
     message:

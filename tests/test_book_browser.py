@@ -202,7 +202,9 @@ def test_every_page_in_a_browser(served_book):
           f"{min(fractions):.2f}, median {statistics.median(fractions):.2f}, max "
           f"{max(fractions):.2f}; {sum(bool(f['image_link']) for f in sizes)} linked full size; "
           f"{len({h for f in sizes for h in f['links']})} links opened")
-    coverage_status = report.figure_coverage()["status"].value_counts().to_dict()
+    from pedalrepro.figures import registry
+
+    coverage_status = registry.coverage(results)["status"].value_counts().to_dict()
     print(f"figure ids: {coverage_status}")
     assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
     # every id the pipeline produced is shown; every id shown is a thesis id

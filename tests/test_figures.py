@@ -52,7 +52,8 @@ def test_results_layout_is_defined_once():
     with pytest.raises(ValueError, match="figure format"):
         paths.figure("fig_2_3", fmt="jpg")
     common = (paths.ROOT / "rules" / "common.smk").read_text()
-    assert "{R}/" not in common  # the Snakemake helpers call pedalrepro.paths
+    for kind in paths.LAYOUT.values():  # the Snakemake helpers call pedalrepro.paths
+        assert "{R}/" + kind + "/" not in common
     for helper in ("table", "figure", "interm", "log", "benchmark"):
         assert f"_paths.{helper}(" in common
 

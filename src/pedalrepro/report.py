@@ -164,27 +164,13 @@ def figure_ids() -> pd.DataFrame:
 
 def figure_coverage() -> pd.DataFrame:
     """Which ids of :func:`figure_ids` the pipeline has produced (``results/figures/<id>.png`` or
-    ``results/tables/<id>.csv`` exists): the id table plus a boolean column ``present``, and
-    ``status`` ``complete`` / ``partial`` / ``missing`` with ``lacking`` (what a partial figure
-    lacks: a method or panel the thesis shows; :func:`pedalrepro.figures.registry.completeness`).
-    """
+    ``results/tables/<id>.csv`` exists): the id table plus a boolean column ``present``."""
     from . import paths
-    from .figures import registry
 
     ids = figure_ids()
     ids["present"] = [
         (paths.table(i) if i.startswith("table_") else paths.figure(i)).exists() for i in ids["id"]
     ]
-    status, lacking = [], []
-    for fid, present in zip(ids["id"], ids["present"], strict=True):
-        if fid in registry.FIGURES:
-            st, what = registry.completeness(fid)
-        else:  # a table
-            st, what = (registry.COMPLETE if present else registry.MISSING), []
-        status.append(st)
-        lacking.append(", ".join(what))
-    ids["status"] = status
-    ids["lacking"] = lacking
     return ids
 
 

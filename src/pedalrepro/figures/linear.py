@@ -565,7 +565,10 @@ def rd_colorbar(fig: Figure, mappable, axes, label: str = "RD (%)"):
     return cb
 
 
-def _rd_map(ax, v, w, rd, eig=None, title="", log: bool = True):
+def rd_map(ax, v, w, rd, eig=None, title="", log: bool = True):
+    """One RD map (Eq 3.26, percent) over speed (x) and cadence (y): logarithmic with the
+    thesis's levels (:func:`rd_norm`), or linear for the parameter comparisons; the weave line
+    and self-stable lines of ``eig`` when given. Returns the contour set (for the colour bar)."""
     if log:
         # NaN (no forcing: zero reference amplitude) stays blank, inf at the top level
         shown = np.clip(np.asarray(rd, float), RD_LOG_LEVELS_PERCENT[0],
@@ -601,7 +604,7 @@ def fig_rd_reference(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
     for row, m in enumerate(models):
         for col, coord in enumerate(("roll", "steer")):
             d = rd[m]
-            cs = _rd_map(axes[row, col], d["speed_m_s"], d["omega_rad_s"], d[f"4_{coord}"],
+            cs = rd_map(axes[row, col], d["speed_m_s"], d["omega_rad_s"], d[f"4_{coord}"],
                          eigen.get(m), f"{m} {coord}: RD vs 60 rpm, 5 m/s", log=False)
     _label_rd_grid(fig, axes, cs, log=False)
     return fig
@@ -618,7 +621,7 @@ def fig_rd_models(pairs: Arrays) -> Figure:
         for col, coord in enumerate(("roll", "steer")):
             key = f"{p}_{a}_vs_{b}_{coord}"
             if key in pairs:
-                cs = _rd_map(axes[row, col], v, w, pairs[key], None,
+                cs = rd_map(axes[row, col], v, w, pairs[key], None,
                              f"point {p}: {a} vs {b}, {coord}", log=False)
     _label_rd_grid(fig, axes, cs, log=False)
     return fig
@@ -659,7 +662,7 @@ def fig_rd_points(rd: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: st
                     transform=ax.transAxes)
             ax.set_title(title, fontsize=8)
             continue
-        cs = _rd_map(ax, v, w, r, eig, title)
+        cs = rd_map(ax, v, w, r, eig, title)
     fig.suptitle(f"model {model}, {coord}: relative differences (Eq 3.26)", fontsize=9)
     _label_rd_grid(fig, axes, cs)
     _missing_note(fig, [m for m in ALL_TIME_METHODS if m in time])

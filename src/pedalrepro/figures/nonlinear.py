@@ -30,7 +30,7 @@ def fig_3_34(maps: Mapping[str, np.ndarray],
         Optional eigen sweeps by model (``results/intermediate/eigen/<model>.npz``) for the
         weave line.
     """
-    from .linear import WIDTH_IN, _rd_map, rd_colorbar
+    from .linear import WIDTH_IN, rd_colorbar, rd_map
 
     v, w = np.asarray(maps["speed_m_s"]), np.asarray(maps["omega_rad_s"])
     models = [str(m) for m in np.atleast_1d(maps["models"])]
@@ -41,7 +41,7 @@ def fig_3_34(maps: Mapping[str, np.ndarray],
         for j, dof in enumerate(("roll", "steer")):
             ax = axes[i, j]
             rd = np.asarray(maps[f"{name}_{dof}_ps_np"], float)
-            cs = _rd_map(ax, v, w, rd, None, f"{name}: {dof}, PS to NP")
+            cs = rd_map(ax, v, w, rd, None, f"{name}: {dof}, PS to NP")
             stable = np.asarray(maps[f"{name}_stable"], bool)
             if stable.any():
                 half = 0.5 * (v[1] - v[0]) if v.size > 1 else 0.1
@@ -90,7 +90,7 @@ def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndar
         Eigen sweep of the project's own CF with its arm loops, seat 0.72 m
         (``results/intermediate/nonlinear/eigen_cf_own.npz``).
     cf_original_seat
-        Eigen sweep of :func:`pedalrepro.nonlinear.arms.original_seat_model`
+        Eigen sweep of :func:`pedalrepro.nonlinear.models.original_seat_model`
         (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): the same model with the
         rider (shoulders included) not lowered, the hands on the handlebar.
     """

@@ -301,3 +301,23 @@ def completeness(fid: str, root: str | Path | None = None) -> tuple[str, list[st
                 if key not in d.files:
                     lacking.append(label)
     return (PARTIAL, lacking) if lacking else (COMPLETE, [])
+
+
+def coverage(root: str | Path | None = None):
+    """:func:`pedalrepro.report.figure_coverage` (every thesis id, ``present``) plus ``status``
+    ``complete`` / ``partial`` / ``missing`` and ``lacking`` (what a partial figure lacks: a
+    method or panel the thesis shows; :func:`completeness`) - the report page's figure count."""
+    from .. import report
+
+    ids = report.figure_coverage()
+    status, lacking = [], []
+    for fid, present in zip(ids["id"], ids["present"], strict=True):
+        if fid in FIGURES:
+            st, what = completeness(fid, root)
+        else:  # a table
+            st, what = (COMPLETE if present else MISSING), []
+        status.append(st)
+        lacking.append(", ".join(what))
+    ids["status"] = status
+    ids["lacking"] = lacking
+    return ids
