@@ -195,25 +195,6 @@ rule nonlinear_report:
         "scripts/nonlinear_report.py"
 
 
-rule nonlinear_figure:
-    input:
-        code=code_inputs("scripts/nonlinear_figure.py"),
-        maps=interm("nonlinear/rd_maps.npz"),
-        appendix_b=table("linearisation_vs_appendix_b"),
-        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
-    output:
-        fig_3_34=figure("fig_3_34"),
-        appendix_b=figure("nonlinear_linearisation_vs_appendix_b"),
-        fig_e_1=figure("fig_e_1"),
-    log:
-        logfile("nonlinear_figure"),
-    message:
-        "Figures of the non-linear part: fig_3_34, fig_e_1 and the Appendix B comparison"
-    script:
-        "scripts/nonlinear_figure.py"
-
-
 REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
 BOOK_INPUTS.extend([
     table("calibration"),
@@ -222,8 +203,5 @@ BOOK_INPUTS.extend([
     table("linearisation_vs_appendix_b"),
     table("nonlinear_checks"),
     interm("nonlinear/rd_maps.npz"),
-    figure("fig_3_34"),
-    figure("fig_e_1"),
-    figure("nonlinear_linearisation_vs_appendix_b"),
 ] + [interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
      for method in ("NT", "NP")])

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from pedalrepro import report
-from pedalrepro.figures import linear as figlin
+from pedalrepro.figures import registry
 
 pytestmark = pytest.mark.workflow
 
@@ -53,8 +53,9 @@ def test_time_npz_format_and_figures(results):
                 assert d["roll_amp_rad"].shape == d["fell"].shape == (n_v, n_w)
                 assert d["example_roll_rad"].shape == (6, len(d["example_t_s"]))
                 assert np.all(np.isfinite(d["roll_amp_rad"]))  # never a silent NaN table
-    for fid in figlin.FIGURE_SPECS:
-        assert (results / "figures" / f"{fid}.png").stat().st_size > 10_000, fid
+    for fid in registry.ids(part="linear"):
+        for fmt in ("png", "pdf"):
+            assert (results / "figures" / f"{fid}.{fmt}").stat().st_size > 10_000, fid
 
 
 def test_linear_report_part(results):

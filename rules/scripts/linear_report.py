@@ -87,7 +87,7 @@ for m in ("HS", "CF", "HR", "CR"):
     r_wheel = gears.wheel_radius_m(linear.bicycle_of(m))
     v = response.grid(**snakemake.params.eigen_speeds)[1:]
     peak = 0.0
-    from pedalrepro.figures.linear import gear_section
+    from pedalrepro.figdata import gear_section
 
     for gr in lin["gear_ratios"]:
         _, r, s = gear_section(m, h, gr, r_wheel, v, lin["ps_omega_max_rad_s"])
