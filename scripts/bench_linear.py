@@ -37,12 +37,12 @@ def best_of(func, repeat: int) -> tuple[float, object]:
 def ln_comparison(model, h, v, w, t, fs, lin) -> list[tuple[str, float, str]]:
     """LN compiled vs solve_ivp on the runs ``v x w``; rows of the table (and prints a line)."""
     kw = dict(rtol=lin["rtol"], atol=lin["atol"], fall_roll_rad=lin["fall_roll_rad"])
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     fast = response.numerical_time_solutions(model, v, w, h, t, **kw)
-    t_fast = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t_fast, c_fast = time.perf_counter() - t0, time.process_time() - c0
+    t0, c0 = time.perf_counter(), time.process_time()
     slow = response.numerical_time_solutions(model, v, w, h, t, compiled=False, **kw)
-    t_slow = time.perf_counter() - t0
+    t_slow, c_slow = time.perf_counter() - t0, time.process_time() - c0
     ra, _ = response.cadence_amplitudes(fast, fs)
     rb, _ = response.cadence_amplitudes(slow, fs)
     forced = (w > 0)[None, :] & np.isfinite(rb)
@@ -51,7 +51,8 @@ def ln_comparison(model, h, v, w, t, fs, lin) -> list[tuple[str, float, str]]:
     print(f"LN compiled vs solve_ivp on {v.size * w.size} runs: amplitude at the cadence, largest "
           f"relative difference {rel.max():.2g}, median {np.median(rel):.2g}; fall flags equal "
           f"in {same_fall} of {fast.fell.size}; largest fall-time difference "
-          f"{np.max(np.abs(fast.t_end_s - slow.t_end_s)):.2g} s")
+          f"{np.max(np.abs(fast.t_end_s - slow.t_end_s)):.2g} s; CPU time {c_slow:.1f} s vs "
+          f"{c_fast:.2f} s (speed-up {c_slow / c_fast:.0f}x; wall times below)")
     n = v.size * w.size
     return [(f"LN solve_ivp (scipy RK45, Python rhs), {n} runs", t_slow, ""),
             (f"LN compiled Dormand-Prince (same runs), {n} runs", t_fast,
