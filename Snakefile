@@ -17,6 +17,7 @@ include: "rules/nonlinear.smk"
 include: "rules/mocap.smk"
 include: "rules/report.smk"
 include: "rules/book.smk"
+include: "rules/cluster.smk"  # last: localrules for profiles/slurm
 
 
 rule all:
