@@ -14,6 +14,7 @@ CLUSTER_LOCAL_RULES = sorted(
         "all",
         "book",  # jupyter-book executes the notebooks against results/ (source tree)
         "mathjax",  # copies node_modules into book/ (source tree)
+        "write_config",  # the config copy the notebooks read (rules/book.smk)
         "nonlinear_codegen",  # cat of the four variant stamps
         "mocap_runs",  # downloads the treadmill data (compute nodes often have no network)
         "section2_table_d_1",

@@ -37,6 +37,7 @@ import time
 from pathlib import Path
 
 import pytest
+import yaml
 
 from pedalrepro import paths
 
@@ -280,16 +281,22 @@ def test_slurm_runs_the_linear_sweeps_and_tables_match_a_local_run(slurm, reques
     submitted = [int(j) for j in re.findall(r"submitted with SLURM jobid (\d+)", log)]
     assert len(submitted) == sum(SLURM_RULES.values()), log[-4000:]
     assert len(set(submitted)) == len(submitted)
-    # ... squeue (jobs stay listed MinJobAge=300 s) shows each COMPLETED, with the rule's name ...
-    queue = slurm._run("squeue", "--states=all", "--noheader", "--format=%i|%T|%k").stdout
-    jobs = {int(i): (state, comment) for i, state, comment in
-            (line.split("|", 2) for line in queue.splitlines() if line.strip())}
+    # ... squeue (jobs stay listed MinJobAge=300 s) shows each COMPLETED, with the rule's name in
+    # the comment and the runtime (minutes) and mem_mb the profile sets for that rule ...
+    queue = slurm._run("squeue", "--states=all", "--noheader", "--format=%i|%T|%l|%m|%k").stdout
+    jobs = {int(i): (state, limit, mem, comment) for i, state, limit, mem, comment in
+            (line.split("|", 4) for line in queue.splitlines() if line.strip())}
     assert set(jobs) == set(submitted), queue
-    assert {state for state, _ in jobs.values()} == {"COMPLETED"}, queue
-    rules = [re.match(r"rule_([a-z0-9_]+?)(_wildcards_.*)?$", c).group(1) for _, c in
-             jobs.values()]
+    assert {j[0] for j in jobs.values()} == {"COMPLETED"}, queue
+    rules = [re.match(r"rule_([a-z0-9_]+?)(_wildcards_.*)?$", j[3]).group(1)
+             for j in jobs.values()]
     assert {r: rules.count(r) for r in set(rules)} == SLURM_RULES, queue
     assert not LOCAL_RULES & set(rules)
+    profile = yaml.safe_load((paths.ROOT / "profiles" / "slurm" / "config.yaml").read_text())
+    for rule, (_, limit, mem, _) in zip(rules, jobs.values(), strict=True):
+        want = {**profile["default-resources"], **profile["set-resources"].get(rule, {})}
+        assert (limit, mem) == (f"{int(want['runtime'])}:00", f"{int(want['mem_mb'])}M"), (
+            rule, queue)
     # ... and slurmctld logged each one finishing with exit status 0 on our node.
     ctld = slurm.ctld_log.read_text()
     for job in submitted:
