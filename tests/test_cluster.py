@@ -292,6 +292,7 @@ def test_slurm_runs_the_linear_sweeps_and_tables_match_a_local_run(slurm, reques
              for j in jobs.values()]
     assert {r: rules.count(r) for r in set(rules)} == SLURM_RULES, queue
     assert not LOCAL_RULES & set(rules)
+    rule_of = dict(zip(jobs, rules, strict=True))
     profile = yaml.safe_load((paths.ROOT / "profiles" / "slurm" / "config.yaml").read_text())
     for rule, (_, limit, mem, _) in zip(rules, jobs.values(), strict=True):
         want = {**profile["default-resources"], **profile["set-resources"].get(rule, {})}
@@ -301,8 +302,16 @@ def test_slurm_runs_the_linear_sweeps_and_tables_match_a_local_run(slurm, reques
     ctld = slurm.ctld_log.read_text()
     for job in submitted:
         assert re.search(rf"_job_complete: JobId={job} WEXITSTATUS 0", ctld), ctld[-3000:]
-    # The SLURM job logs (kept) exist, one per job id.
-    assert {int(p.stem) for p in slurm_logs.rglob("*.log")} == set(submitted)
+    # The SLURM job logs (kept: <logdir>/rule_<rule>/[<wildcards>/]<job id>.log), one per job
+    # id, each from a Snakemake that ran that rule's one job to the end inside the allocation.
+    job_logs = {int(p.stem): p for p in slurm_logs.rglob("*.log")}
+    assert set(job_logs) == set(submitted)
+    for job, path in job_logs.items():
+        text = path.read_text()
+        rule = path.relative_to(slurm_logs).parts[0].removeprefix("rule_")
+        assert rule == rule_of[job], (job, rule, queue)
+        assert f"Finished jobid: 0 (Rule: {rule})" in text and "1 of 1 steps (100%) done" in text, (
+            text[-2000:])
 
     # Every table of the SLURM run equals the local run's byte for byte.
     tables = sorted(p.relative_to(remote) for p in (remote / "tables").rglob("*.csv"))
