@@ -3,11 +3,11 @@
 
 The test installs nothing (``bash scripts/setup.sh --cluster`` installs Debian's ``slurm-wlm`` and
 ``munge`` as root). It writes a single-node ``slurm.conf`` for this host into a temporary folder
-(CPUs and RealMemory of this machine, no accounting database, ``MinJobAge=300`` so that finished
-jobs stay visible to ``squeue``), creates a MUNGE key, starts ``munged``, ``slurmctld`` and
-``slurmd`` in the foreground on private sockets and ports, and stops exactly those processes (by
-PID) afterwards. Snakemake then runs the linear sweeps (eigenvalues, PS, LA, LN of four models, RD
-maps) and Table 4.1's model columns of ``config/quick.yaml``:
+(CPUs and RealMemory of this machine, no accounting database, ``MinJobAge=3600`` so that
+finished jobs stay visible to ``squeue`` during and after the run), creates a MUNGE key, starts
+``munged``, ``slurmctld`` and ``slurmd`` in the foreground on private sockets and ports, and stops
+exactly those processes (by PID) afterwards. Snakemake then runs the linear sweeps (eigenvalues,
+PS, LA, LN of four models, RD maps) and Table 4.1's model columns of ``config/quick.yaml``:
 
 - locally: ``snakemake -j2`` into ``<tmp>/local``;
 - on SLURM: ``snakemake --executor slurm --profile profiles/slurm`` into ``<tmp>/slurm``, with
@@ -148,7 +148,7 @@ SchedulerType=sched/builtin
 SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU_Memory
 ReturnToService=2
-MinJobAge=300
+MinJobAge=3600
 InactiveLimit=0
 KillWait=5
 Waittime=0
@@ -281,8 +281,8 @@ def test_slurm_runs_the_linear_sweeps_and_tables_match_a_local_run(slurm, reques
     submitted = [int(j) for j in re.findall(r"submitted with SLURM jobid (\d+)", log)]
     assert len(submitted) == sum(SLURM_RULES.values()), log[-4000:]
     assert len(set(submitted)) == len(submitted)
-    # ... squeue (jobs stay listed MinJobAge=300 s) shows each COMPLETED, with the rule's name in
-    # the comment and the runtime (minutes) and mem_mb the profile sets for that rule ...
+    # ... squeue (finished jobs stay listed for MinJobAge=3600 s) shows each COMPLETED, with the
+    # rule's name in the comment and the runtime (minutes) and mem_mb the profile sets for it ...
     queue = slurm._run("squeue", "--states=all", "--noheader", "--format=%i|%T|%l|%m|%k").stdout
     jobs = {int(i): (state, limit, mem, comment) for i, state, limit, mem, comment in
             (line.split("|", 4) for line in queue.splitlines() if line.strip())}
