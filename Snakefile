@@ -18,6 +18,7 @@ include: "rules/mocap.smk"
 include: "rules/figures.smk"
 include: "rules/report.smk"
 include: "rules/book.smk"
+include: "rules/cluster.smk"  # last: localrules for profiles/slurm
 
 
 rule all:
