@@ -95,7 +95,7 @@ def nonlinear_cache(request):
     printing each one; returns the cache folder. A warm cache costs file look-ups only."""
     import time
 
-    from pedalrepro.nonlinear import codegen, model
+    from pedalrepro.nonlinear import codegen, library, model
 
     capture = request.config.pluginmanager.getplugin("capturemanager")
     for legs in (False, True):
@@ -108,7 +108,7 @@ def nonlinear_cache(request):
                       "(once; about 10-120 s)...", flush=True)
             start = time.perf_counter()
             codegen.generated_source(options)
-            codegen.compiled_library(options)
+            library.compiled_library(options)
             with capture.global_and_fixture_disabled():
                 print(f"[nonlinear_cache] {options.key()} done in "
                       f"{time.perf_counter() - start:.0f} s", flush=True)
