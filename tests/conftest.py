@@ -101,7 +101,9 @@ def nonlinear_cache(request):
     for legs in (False, True):
         for arms in (False, True):
             options = model.ModelOptions(legs=legs, arms=arms)
-            if (codegen.cache_dir() / f"{codegen.cache_key(options)}.py").exists():
+            key = codegen.cache_key(options)
+            folder = codegen.cache_dir()
+            if (folder / f"{key}.py").exists() and any(folder.glob(f"{key}.*.so")):
                 continue
             with capture.global_and_fixture_disabled():
                 print(f"\n[nonlinear_cache] deriving {options.key()} into {codegen.cache_dir()} "

@@ -343,12 +343,15 @@ def test_unchanged_config_plans_nothing(baseline, tmp_path):
 
 # (family, dotted key, new value, rules reading the value, rules that must not run at all)
 SECTION2 = {"section2_table_d_1", "section2_disturbance", "section2_numbers",
-            "section2_figure", "section2_report"}
+            "figures_section2", "section2_report"}
 LINEAR = {"linear_eigen", "linear_ps", "linear_time_la", "linear_time_ln", "linear_rd",
           "linear_table_4_1", "linear_report"}
-NONLINEAR = {"nonlinear_codegen_variant", "nonlinear_codegen", "nonlinear_linearisation",
-             "nonlinear_time_chunk", "nonlinear_time", "nonlinear_report", "nonlinear_figure"}
-MOCAP = {"mocap_runs", "mocap_extract", "validation_tables", "validation_figures"}
+NONLINEAR = {"nonlinear_codegen_variant", "nonlinear_codegen", "nonlinear_calibration",
+             "nonlinear_linearisation",
+             "nonlinear_time_chunk", "nonlinear_time", "nonlinear_rd", "nonlinear_report",
+             "figures_nonlinear"}
+MOCAP = {"mocap_runs", "mocap_extract", "validation_tables", "validation_figure_data",
+         "figures_validation"}
 CHANGES = [
     ("section2", "section2.cadence_rpm", 55.0,
      {"section2_disturbance", "section2_numbers"},
@@ -357,11 +360,11 @@ CHANGES = [
      LINEAR | NONLINEAR | MOCAP | {"section2_disturbance", "section2_numbers"}),
     ("linear", "linear.time_speed_step_m_s", 2.5,
      {"linear_time_la", "linear_time_ln", "nonlinear_time_chunk", "nonlinear_time",
-      "nonlinear_report"},
+      "nonlinear_rd"},
      SECTION2 | MOCAP | {"linear_eigen", "linear_ps", "linear_table_4_1", "nonlinear_codegen",
                          "nonlinear_codegen_variant", "nonlinear_linearisation"}),
     ("linear", "linear.eigen_speed_step_m_s", 0.04,
-     {"linear_eigen", "linear_report", "nonlinear_linearisation", "linear_figures_overview"},
+     {"linear_eigen", "linear_report", "nonlinear_linearisation", "linear_figure_data"},
      SECTION2 | MOCAP | {"linear_ps", "linear_time_la", "linear_time_ln", "linear_rd",
                          "nonlinear_time_chunk", "nonlinear_time"}),
     ("linear", "linear.rtol", 1e-4, {"linear_time_ln"},
@@ -436,12 +439,13 @@ def _users(rel, scripts=RULE_SCRIPTS):
 # rule script -> rules running it (several rules share a script)
 RULES_OF = {
     "linear_time.py": {"linear_time_la", "linear_time_ln"},
-    "linear_figure.py": {"linear_figures_overview", "linear_figures_rd", "linear_figures_time"},
+    "figures.py": {"figures_section2", "figures_linear_overview", "figures_linear_rd",
+                   "figures_linear_time", "figures_linear_spectra", "figures_nonlinear",
+                   "figures_validation"},
     "nonlinear_codegen.py": {"nonlinear_codegen_variant"},
     "nonlinear_time.py": {"nonlinear_time_chunk"},
     "nonlinear_merge.py": {"nonlinear_time"},
     "mocap_tables.py": {"validation_tables"},
-    "mocap_figures.py": {"validation_figures"},
 }
 
 
@@ -460,8 +464,8 @@ def _rules(script_names):
       "nonlinear_time"}),
     # the figure style: every figure rule and the book (notebooks draw figures)
     ("src/pedalrepro/pedalrepro.mplstyle",
-     {"section2_figure", "linear_figures_overview", "linear_figures_rd", "linear_figures_time",
-      "nonlinear_figure", "validation_figures", "linear_report", "book"}),
+     {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
+      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
     ("data/parameters/validation_runs.yaml",
      {"linear_table_4_1", "mocap_runs", "mocap_extract", "validation_tables"}),
