@@ -15,6 +15,7 @@ include: "rules/section2.smk"
 include: "rules/linear.smk"
 include: "rules/nonlinear.smk"
 include: "rules/mocap.smk"
+include: "rules/own_bicycle.smk"
 include: "rules/report.smk"
 include: "rules/book.smk"
 

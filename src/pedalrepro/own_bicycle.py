@@ -39,6 +39,11 @@ import numpy as np
 from . import disturbance, gears, legs, linear, response
 from .params import LinearModel
 
+#: The book's example (rule ``own_bicycle_resonance``, a bicycle the thesis did not study): its
+#: files are the rule's inputs (pedalrepro.dependencies). Any other folder is the user's.
+DATA_FILES: tuple[str, ...] = ("data/parameters/bicycleparameters/bicycles/Rigid",
+                               "data/parameters/bicycleparameters/riders/Jason")
+
 
 @dataclass(frozen=True)
 class OwnBicycle:
@@ -401,12 +406,14 @@ def plot(own: OwnBicycle, rmap: ResonanceMap, values: Mapping[str, Any],
 
 
 def run(data_dir: str | Path, bicycle: str, rider: str, out_dir: str | Path,
-        lin: Mapping[str, Any], **load_kwargs) -> dict[str, Path]:
+        lin: Mapping[str, Any], *, png_dir: str | Path | None = None,
+        **load_kwargs) -> dict[str, Path]:
     """Load, analyse, and write ``<bicycle>_<rider>_resonance_map.csv``, ``..._summary.csv``
-    and ``..._resonance.png`` into ``out_dir``.
+    and ``..._resonance.png`` into ``out_dir`` (the PNG into ``png_dir`` when given).
 
-    ``lin`` is the config section ``linear`` (``ps_*`` grid, ``eigen_speed_*``, ``harmonics``,
-    ``gear_ratios``, ``normal_cycling_*``).
+    ``lin`` holds the keys of config section ``linear`` used here (``ps_*`` grid,
+    ``eigen_speed_*``, ``harmonics``, ``gear_ratios``, ``normal_cycling_*``); ``load_kwargs`` go
+    to :func:`load_bicycle`.
     """
     own = load_bicycle(data_dir, bicycle, rider, **load_kwargs)
     v, w = response.speed_cadence_grid(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"],
@@ -423,8 +430,10 @@ def run(data_dir: str | Path, bicycle: str, rider: str, out_dir: str | Path,
              "summary": write_summary_csv(f"{stem}_summary.csv", values, own.notes)}
     fig = plot(own, rmap, values, lin["normal_cycling_speed_kmh"],
                lin["normal_cycling_cadence_rpm"], lin["gear_ratios"])
-    fig.savefig(f"{stem}_resonance.png", dpi=120)
-    paths["png"] = Path(f"{stem}_resonance.png")
+    png = Path(png_dir or out) / f"{bicycle}_{rider}_resonance.png"
+    png.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(png, dpi=120)
+    paths["png"] = png
     return paths
 
 
