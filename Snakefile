@@ -16,6 +16,7 @@ include: "rules/linear.smk"
 include: "rules/nonlinear.smk"
 include: "rules/mocap.smk"
 include: "rules/own_bicycle.smk"
+include: "rules/figures.smk"
 include: "rules/report.smk"
 include: "rules/book.smk"
 

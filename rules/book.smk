@@ -61,10 +61,17 @@ rule book:
         BOOK_INDEX,
     params:
         out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
+        figures=lambda wildcards: str(_paths.figures(R)),
     log:
         logfile("book"),
     message:
         "Building the jupyter-book (strict) into {params.out}/_build/html (log: {log})"
+    # Every figure in the book links its full-size PNG and its PDF, served from
+    # _build/html/figures/ (pedalrepro.figures.BOOK_FIGURES_HREF).
     shell:
         "jupyter-book build --all -W -n --keep-going book/ --path-output {params.out} > {log} 2>&1"
         " || {{ tail -n 40 {log} >&2; exit 1; }}"
+        " && mkdir -p {params.out}/_build/html/figures"
+        " && {{ test ! -d {params.figures}"
+        " || find {params.figures} -maxdepth 1 -name '*.p[nd][gf]'"
+        " -exec cp -t {params.out}/_build/html/figures/ {{}} + ; }}"

@@ -64,24 +64,29 @@ TIME_SAMPLES = cfg("linear", "duration_s", "sample_rate_hz")
 HARMONICS = list(config["linear"]["harmonics"])
 
 
+# The results layout is defined once, in pedalrepro.paths (LAYOUT); these helpers only bind it to
+# the configured results folder R (relative paths stay relative, as Snakemake targets).
+from pedalrepro import paths as _paths
+
+
 def table(name):
     """results/tables/<name>.csv"""
-    return f"{R}/tables/{name}.csv"
+    return str(_paths.table(name, root=R))
 
 
-def figure(name):
-    """results/figures/<name>.png"""
-    return f"{R}/figures/{name}.png"
+def figure(name, fmt="png"):
+    """results/figures/<name>.png (fmt="pdf": its vector copy)"""
+    return str(_paths.figure(name, root=R, fmt=fmt))
 
 
 def interm(name):
     """results/intermediate/<name>"""
-    return f"{R}/intermediate/{name}"
+    return str(_paths.interm(name, root=R))
 
 
 def logfile(name):
-    return f"{R}/logs/{name}.log"
+    return str(_paths.log(name, root=R))
 
 
 def bench(name):
-    return f"{R}/benchmarks/{name}.tsv"
+    return str(_paths.benchmark(name, root=R))

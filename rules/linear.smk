@@ -1,39 +1,13 @@
 # Rules of the linear part (thesis Sec 3, linear methods; see rules/common.smk for helpers):
 # eigen analysis, particular solution (PS), time solutions (LA analytic, LN numerical), RD maps,
-# Table 4.1 model columns, the report part and every linear figure.
-from pedalrepro.figures.linear import FIGURE_SPECS as LINEAR_FIGURE_SPECS
-from pedalrepro.figures.linear import FIGURE_GROUPS as LINEAR_FIGURE_GROUPS
-from pedalrepro.figures.linear import figure_group as linear_figure_group
-from pedalrepro.figures.linear import inputs_of as linear_figure_inputs
+# Table 4.1 model columns and the report part (the figures: rules/figures.smk).
 
 LINEAR_MODELS = list(config["linear"]["models"])
 # Time solutions and RD maps: the four thesis models (the benchmark has PS and eigen figures only).
 LINEAR_TIME_MODELS = [m for m in LINEAR_MODELS if m != "benchmark"]
-LINEAR_FIGURES = sorted(LINEAR_FIGURE_SPECS)
 # Time-solution methods drawn in fig_3_10 .. fig_3_33, fig_g_*, fig_h_*. rules/nonlinear.smk
 # (included after this file) extends it with "NT", "NP"; inputs read it lazily.
 TIME_METHODS = ["LA", "LN"]
-# The config keys figures.linear.draw reads, per drawing function (the others read files only).
-# draw() gets exactly these (params), so a key missing here fails loudly with a KeyError.
-_PS_GRID_KEYS = ["ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
-                 "ps_omega_max_rad_s"]
-LINEAR_FIGURE_KEYS = {
-    "fig_gear_grid": _PS_GRID_KEYS + ["gear_ratios", "normal_cycling_speed_kmh",
-                                      "normal_cycling_cadence_rpm", "reference_speed_m_s",
-                                      "reference_cadence_rpm"],
-    "fig_neglected_momenta": _PS_GRID_KEYS + ["harmonics", "gear_ratios"],
-    "fig_amplitude_maps": ["gear_ratios", "normal_cycling_speed_kmh",
-                           "normal_cycling_cadence_rpm"],
-    "fig_gear_sections": ["eigen_speed_step_m_s", "eigen_speed_max_m_s", "harmonics",
-                          "gear_ratios", "ps_omega_max_rad_s"],
-}
-# group -> the config keys its figures read
-LINEAR_GROUP_KEYS = {
-    g: sorted({k for f in linear_figure_group(g)
-               for k in LINEAR_FIGURE_KEYS.get(LINEAR_FIGURE_SPECS[f][0], [])})
-    for g in LINEAR_FIGURE_GROUPS
-}
-
 
 rule linear_eigen:
     input:
@@ -169,7 +143,6 @@ rule linear_report:
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
-        meijaard="data/published/meijaard2007.yaml",
     output:
         f"{R}/tables/report/linear.csv",
     params:
@@ -187,35 +160,9 @@ rule linear_report:
         "scripts/linear_report.py"
 
 
-
-
-for _group in LINEAR_FIGURE_GROUPS:
-
-    rule:
-        name:
-            f"linear_figures_{_group}"
-        input:
-            code=code_inputs("scripts/linear_figure.py"),
-            data=lambda wc, g=_group: sorted(
-                {p for f in linear_figure_group(g) for p in linear_figure_inputs(f, R, TIME_METHODS)}
-            ),
-        output:
-            png=[figure(f) for f in linear_figure_group(_group)],
-        params:
-            time_methods=lambda wc: list(TIME_METHODS),
-            linear=cfg("linear", *LINEAR_GROUP_KEYS[_group]),
-        log:
-            logfile(f"linear_figures_{_group}"),
-        message:
-            f"Linear-part figures, group {_group}"
-        script:
-            "scripts/linear_figure.py"
-
-
 REPORT_PARTS.append(f"{R}/tables/report/linear.csv")
 BOOK_INPUTS.extend(
     [table("eigen_summary"), table("table_4_1_model"), table("rd_summary")]
-    + [figure(f) for f in LINEAR_FIGURES]
     + expand(interm("ps/{model}.npz"), model=LINEAR_MODELS)
     + expand(interm("eigen/{model}.npz"), model=LINEAR_MODELS)
 )

@@ -7,7 +7,6 @@
 MOCAP_STAND_IN_KEYS = ["duration_s", "sample_rate_hz", "marker_noise_m", "gaps_per_marker_per_min",
                        "max_gap_s", "repair_gap_max_s", "max_runs_per_system",
                        "stand_in_gear_ratios", "stand_in_cadence_rpm"]
-MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)]
 
 
 rule mocap_runs:
@@ -70,29 +69,8 @@ rule validation_tables:
         "scripts/mocap_tables.py"
 
 
-rule validation_figures:
-    input:
-        per_run=table("validation_runs"),
-        series=interm("mocap/series.npz"),
-        source=interm("mocap/source.json"),
-        code=code_inputs("scripts/mocap_figures.py"),
-    output:
-        MOCAP_FIGURES,
-    params:
-        ps_grid=cfg("linear", "ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
-                    "ps_omega_max_rad_s"),
-        example_runs_per_system=config["mocap"]["example_runs_per_system"],
-    log:
-        logfile("validation_figures"),
-    message:
-        "Figures 4.2-4.11 (measured vs open-loop model)"
-    script:
-        "scripts/mocap_figures.py"
-
-
 REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
 BOOK_INPUTS.extend(
     [table("table_4_1"), table("table_4_2"), table("validation_runs"),
      interm("mocap/source.json"), interm("mocap/series.npz")]
-    + MOCAP_FIGURES
 )

@@ -1,8 +1,9 @@
 # Rules of the nonlinear part (thesis Sec 3.1.1.3, 3.1.2.1, 3.2.4; see rules/common.smk):
 # the symbolic models derived and compiled once (cached), their linearisations (benchmark vs
 # Meijaard 2007, the four models' bodies vs Appendix B, Fig E.1), the NT/NP time-solution sweeps
-# split by method, model and speed chunk, the report rows of evaluation points 1a, 1b, 2a,
-# PS vs NP, and fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
+# split by method, model and speed chunk, the RD maps of evaluation points 1a, 1b, 2a and
+# PS vs NP (rule nonlinear_rd), their report rows (nonlinear_report, which only reads), and
+# fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
 # substitute (pedalrepro.nonlinear.substitute).
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
@@ -10,6 +11,9 @@ NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
 # Integration settings of the NT/NP runs (keyword arguments of nonlinear.sweep.RunSettings).
 NONLINEAR_SETTINGS = dict(TIME_SAMPLES, **cfg("nonlinear", "rtol", "atol", "fall_roll_rad",
                                               "method"))
+# The frames calibrated to Appendix B (rule nonlinear_calibration), read by every rule that
+# builds a non-linear model (pedalrepro.nonlinear.calibration.use_file).
+NONLINEAR_CALIBRATION = interm("nonlinear/calibration.yaml")
 # The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP
 # only when all four have a non-linear model (config nonlinear.models).
 if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
@@ -54,10 +58,29 @@ rule nonlinear_codegen:
         "cat {input} > {output} 2> {log}"
 
 
+rule nonlinear_calibration:
+    input:
+        code=code_inputs("scripts/nonlinear_calibration.py"),
+        codegen=interm("nonlinear/codegen.txt"),
+    output:
+        table=table("calibration"),
+        checks=table("calibration_checks"),
+        record=NONLINEAR_CALIBRATION,
+    params:
+        models=NONLINEAR_MODELS,
+    log:
+        logfile("nonlinear_calibration"),
+    message:
+        "Calibrating the frames of {params.models} to thesis Appendix B (legs at crank angle 0)"
+    script:
+        "scripts/nonlinear_calibration.py"
+
+
 rule nonlinear_linearisation:
     input:
         code=code_inputs("scripts/nonlinear_linearisation.py"),
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
         meijaard="data/published/meijaard2007.yaml",
     output:
         benchmark=table("benchmark_linearisation"),
@@ -81,6 +104,7 @@ rule nonlinear_time_chunk:
     input:
         code=code_inputs("scripts/nonlinear_time.py"),
         codegen=interm("nonlinear/codegen.txt"),
+        calibration=NONLINEAR_CALIBRATION,
     output:
         interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
     params:
@@ -107,6 +131,7 @@ rule nonlinear_time_chunk:
 rule nonlinear_time:
     input:
         code=code_inputs("scripts/nonlinear_merge.py"),
+        calibration=NONLINEAR_CALIBRATION,
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
@@ -130,20 +155,13 @@ rule nonlinear_time:
         "scripts/nonlinear_merge.py"
 
 
-rule nonlinear_report:
+rule nonlinear_rd:
     input:
-        code=code_inputs("scripts/nonlinear_report.py"),
-        benchmark=table("benchmark_linearisation"),
-        appendix_b=table("linearisation_vs_appendix_b"),
+        code=code_inputs("scripts/nonlinear_rd.py"),
         own=interm("nonlinear/linearisation_own.npz"),
-        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
               for method in ("NT", "NP")],
-        meijaard="data/published/meijaard2007.yaml",
-        published="data/published/thesis_values.yaml",
     output:
-        report=f"{R}/tables/report/nonlinear.csv",
         maps=interm("nonlinear/rd_maps.npz"),
     params:
         models=NONLINEAR_MODELS,
@@ -152,6 +170,24 @@ rule nonlinear_report:
         harmonics=HARMONICS,
         fall_roll_rad=config["nonlinear"]["fall_roll_rad"],
     log:
+        logfile("nonlinear_rd"),
+    message:
+        "RD maps of the non-linear evaluation points 1a, 1b and PS vs NP (Fig 3.34)"
+    script:
+        "scripts/nonlinear_rd.py"
+
+
+rule nonlinear_report:
+    input:
+        code=code_inputs("scripts/nonlinear_report.py"),
+        maps=interm("nonlinear/rd_maps.npz"),
+        benchmark=table("benchmark_linearisation"),
+        appendix_b=table("linearisation_vs_appendix_b"),
+        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
+        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
+    output:
+        report=f"{R}/tables/report/nonlinear.csv",
+    log:
         logfile("nonlinear_report"),
     message:
         "Report rows of the non-linear part: linearisation, 1a, 1b, 2a, PS vs NP"
@@ -159,33 +195,13 @@ rule nonlinear_report:
         "scripts/nonlinear_report.py"
 
 
-rule nonlinear_figure:
-    input:
-        code=code_inputs("scripts/nonlinear_figure.py"),
-        maps=interm("nonlinear/rd_maps.npz"),
-        appendix_b=table("linearisation_vs_appendix_b"),
-        eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
-        eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
-    output:
-        fig_3_34=figure("fig_3_34"),
-        appendix_b=figure("nonlinear_linearisation_vs_appendix_b"),
-        fig_e_1=figure("fig_e_1"),
-    log:
-        logfile("nonlinear_figure"),
-    message:
-        "Figures of the non-linear part: fig_3_34, fig_e_1 and the Appendix B comparison"
-    script:
-        "scripts/nonlinear_figure.py"
-
-
 REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
 BOOK_INPUTS.extend([
+    table("calibration"),
+    table("calibration_checks"),
     table("benchmark_linearisation"),
     table("linearisation_vs_appendix_b"),
     table("nonlinear_checks"),
     interm("nonlinear/rd_maps.npz"),
-    figure("fig_3_34"),
-    figure("fig_e_1"),
-    figure("nonlinear_linearisation_vs_appendix_b"),
 ] + [interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
      for method in ("NT", "NP")])

@@ -1,7 +1,6 @@
 # Rules of the section2 part (see rules/common.smk for helpers): thesis Section 2, the pedalling
-# disturbance, and Appendix D (Table D.1, Fig D.1).
+# disturbance, and Appendix D (Table D.1; the figures: rules/figures.smk).
 
-SECTION2_FIGURES = ["fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5", "fig_2_6", "fig_2_7", "fig_d_1"]
 SECTION2_BICYCLES = ["hybrid", "city"]
 
 
@@ -56,27 +55,10 @@ rule section2_numbers:
         "scripts/section2_numbers.py"
 
 
-rule section2_figure:
-    input:
-        npz=interm("section2/disturbance_hybrid.npz"),
-        code=code_inputs("scripts/section2_figure.py"),
-    output:
-        png=figure("{fid}"),
-    wildcard_constraints:
-        fid="|".join(SECTION2_FIGURES),
-    log:
-        logfile("section2_{fid}"),
-    message:
-        "Section 2 figure {wildcards.fid}"
-    script:
-        "scripts/section2_figure.py"
-
-
 rule section2_report:
     input:
         table_d_1=table("table_d_1"),
         numbers=table("section2_numbers"),
-        published="data/published/thesis_values.yaml",
         code=code_inputs("scripts/section2_report.py"),
     output:
         report=f"{R}/tables/report/section2.csv",
@@ -91,6 +73,5 @@ rule section2_report:
 REPORT_PARTS.append(f"{R}/tables/report/section2.csv")
 BOOK_INPUTS.extend(
     [table("table_d_1"), table("section2_numbers")]
-    + [figure(f) for f in SECTION2_FIGURES]
     + [interm(f"section2/disturbance_{b}.npz") for b in SECTION2_BICYCLES]
 )

@@ -40,9 +40,12 @@ def test_show_figure_carries_its_id_and_the_image(monkeypatch):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig = plt.figure(figsize=(2.0, 1.0), dpi=50)  # 100 x 50 px (no tight bbox: plain rcParams)
-    with matplotlib.rc_context({"savefig.bbox": None, "savefig.dpi": 50}):
-        bundle = _captured_show(monkeypatch, fig, "fig_3_10", "Roll <amplitude> & steer.")
+    monkeypatch.setenv("PEDALREPRO_RESULTS", "/nonexistent")  # no rule file: no full-size link
+    fig = plt.figure(figsize=(2.0, 1.0), dpi=50)
+    bundle = _captured_show(monkeypatch, fig, "fig_3_10", "Roll <amplitude> & steer.")
+    with figures.style():  # rendered in the project's style: dpi and the tight bbox's pad
+        dpi = matplotlib.rcParams["savefig.dpi"]
+        pad = matplotlib.rcParams["savefig.pad_inches"]
     assert not plt.fignum_exists(fig.number)  # closed: the inline backend will not show it twice
     html = bundle["text/html"]
     assert 'data-figure-id="fig_3_10"' in html and 'id="pedalrepro-fig_3_10"' in html
@@ -51,7 +54,9 @@ def test_show_figure_carries_its_id_and_the_image(monkeypatch):
     assert "Roll &lt;amplitude&gt; &amp; steer." in html  # caption escaped
     data = re.search(r'src="data:image/png;base64,([^"]+)"', html).group(1)
     png = base64.b64decode(data)
-    assert _png_size(png) == (100, 50)
+    width, height = _png_size(png)
+    assert abs(width - (2.0 + 2 * pad) * dpi) <= 1 and abs(height - (1.0 + 2 * pad) * dpi) <= 1
+    assert "href" not in html
     assert base64.b64decode(bundle["image/png"]) == png
 
 
@@ -115,9 +120,9 @@ def test_report_helpers(tmp_path):
     empty = report.combine([], tmp_path / "r.csv")
     assert list(empty.columns) == list(report.COLUMNS) and empty.empty
     rows = [report.Row("NRMSD <vertical> COM", "2.2.1", "3.6", "3.57", "abs 0.05",
-                       report.REPRODUCED),
+                       report.REPRODUCED, id="a"),
             report.Row("Table 4.1 roll measured", "Table 4.1", "0.011", "", "n/a",
-                       report.NOT_REPRODUCIBLE, "treadmill data not available")]
+                       report.NOT_REPRODUCIBLE, "treadmill data not available", id="b")]
     df = report.write_rows(rows, tmp_path / "part.csv")
     assert len(report.select(df, "2.2", "vertical")) == 1
     assert len(report.select(df, "2.2", "horizontal")) == 0

@@ -5,7 +5,11 @@ Checks, on the book the quick workflow just built (fixture ``quick_workflow``): 
 request to any host but the local server, MathJax typesets from the bundled copy, and every figure
 or table id the pipeline produced (``results/figures/<id>.png``, ``results/tables/<id>.csv`` of
 ``data/figure_ids.yaml``) is shown as ``data-figure-id`` on some page (CONTRIBUTING.md, "Figures
-in the book"). A screenshot of the report page is saved as ``<results>/book/report.png``.
+in the book"). Figures drawn for the page (issue 13): every figure link (the image and its
+caption's "Full size: PNG · PDF") opens the full-size file, and no figure displays below 60 % of
+its native width unless it is linked full size; the displayed-size statistics are printed.
+Screenshots of the report page and of a chapter-3 page are saved as ``<results>/book/report.png``
+and ``<results>/book/chapter3.png``.
 
 Uses Debian's chromium (``apt-get install chromium chromium-driver``; ``scripts/setup.sh
 --browser``) through playwright; skipped with the reason when it is missing, unless
@@ -33,6 +37,9 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic"
                  "--no-first-run", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync"]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
+#: Smallest displayed / native width of a figure not linked to its full-size file.
+MIN_DISPLAYED_FRACTION = 0.6
+CHAPTER3_PAGE = "notebooks/03_2_time_frequency.html"
 
 
 def _require_browser() -> None:
@@ -102,6 +109,7 @@ def test_every_page_in_a_browser(served_book):
     foreign: list[str] = []
     shown: dict[str, str] = {}
     mathjax_pages = 0
+    sizes: list[dict] = []  # one per figure image: id, native and displayed width, links
 
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
@@ -132,6 +140,18 @@ def test_every_page_in_a_browser(served_book):
             for fid in page.eval_on_selector_all(
                     "[data-figure-id]", "els => els.map(e => e.dataset.figureId)"):
                 shown.setdefault(fid, rel)
+            for fig in page.eval_on_selector_all("figure.pedalrepro-figure", """els => els
+                    .filter(e => e.querySelector('img'))
+                    .map(e => { const img = e.querySelector('img');
+                                const a = img.closest('a');
+                                return {id: e.dataset.figureId,
+                                        natural: img.naturalWidth,
+                                        displayed: img.getBoundingClientRect().width,
+                                        image_link: a ? a.href : null,
+                                        links: Array.from(e.querySelectorAll('a[href]'))
+                                                    .map(x => x.href)}; })"""):
+                fig["page"] = rel
+                sizes.append(fig)
             if page.evaluate("() => document.querySelector('.math') !== null"):
                 page.wait_for_function("() => window.MathJax && MathJax.startup"
                                        " && MathJax.startup.promise", timeout=15_000)
@@ -143,11 +163,49 @@ def test_every_page_in_a_browser(served_book):
             if rel == "notebooks/reproduction_report.html":
                 shot = results / "book" / "report.png"
                 page.screenshot(path=str(shot), full_page=True)
+            if rel == CHAPTER3_PAGE:
+                page.screenshot(path=str(results / "book" / "chapter3.png"), full_page=True)
             page.close()
+        # every figure link opens the full-size file: the PNG at least as wide as the image
+        # shown, the PDF a PDF
+        link_problems = []
+        for fig in sizes:
+            for href in fig["links"]:
+                r = context.request.get(href)
+                body = r.body() if r.ok else b""
+                if href.endswith(".png"):
+                    ok = (r.ok and body[:8] == b"\x89PNG\r\n\x1a\n"
+                          and struct.unpack(">I", body[16:20])[0] >= fig["natural"])
+                elif href.endswith(".pdf"):
+                    ok = r.ok and body[:5] == b"%PDF-"
+                else:
+                    ok = r.ok
+                if not ok:
+                    link_problems.append(f"{fig['page']} {fig['id']}: link {href} ({r.status})")
         browser.close()
 
     assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
     assert not problems, "\n".join(problems)
+    assert not link_problems, "\n".join(link_problems)
+    # figures drawn for the page: each figure the pipeline wrote is linked to its full-size PNG
+    # and PDF, and none shows below 60 % of its native width unless linked full size
+    fractions = [f["displayed"] / f["natural"] for f in sizes]
+    small = [f"{f['page']} {f['id']}: {f['displayed'] / f['natural']:.0%}" for f in sizes
+             if f["displayed"] / f["natural"] < MIN_DISPLAYED_FRACTION and not f["image_link"]]
+    assert not small, f"figures shown below {MIN_DISPLAYED_FRACTION:.0%} without a link: {small}"
+    unlinked = sorted(f["id"] for f in sizes if (results / "figures" / f"{f['id']}.png").exists()
+                      and not (f["image_link"] or "").endswith(f"/figures/{f['id']}.png"))
+    assert not unlinked, f"figures not linked to their full-size PNG: {unlinked}"
+    import statistics
+
+    print(f"\nfigures: {len(sizes)} images; displayed / native width min "
+          f"{min(fractions):.2f}, median {statistics.median(fractions):.2f}, max "
+          f"{max(fractions):.2f}; {sum(bool(f['image_link']) for f in sizes)} linked full size; "
+          f"{len({h for f in sizes for h in f['links']})} links opened")
+    from pedalrepro.figures import registry
+
+    coverage_status = registry.coverage(results)["status"].value_counts().to_dict()
+    print(f"figure ids: {coverage_status}")
     assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
     # every id the pipeline produced is shown; every id shown is a thesis id
     coverage = report.figure_coverage()
@@ -159,6 +217,7 @@ def test_every_page_in_a_browser(served_book):
     assert not unknown, f"shown ids not in data/figure_ids.yaml: {unknown}"
     width, height = _png_size(results / "book" / "report.png")
     assert width >= 1000 and height >= 600
+    assert _png_size(results / "book" / "chapter3.png")[1] >= 2000  # a long page, full
     print(f"\nbrowser: {len(pages)} pages, {len(shown)} of {len(coverage)} figure ids shown, "
           f"screenshot {width}x{height} px at {results / 'book' / 'report.png'}")
 

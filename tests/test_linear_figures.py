@@ -1,4 +1,5 @@
-"""Figures of the linear part: groups, inputs, methods present/missing (CONTRIBUTING.md)."""
+"""Figures of the linear part drawn from files through the registry: methods present/missing,
+the time panels' zoom (CONTRIBUTING.md, "Figures in the book"; issue 13)."""
 
 from __future__ import annotations
 
@@ -9,22 +10,16 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from pedalrepro import evaluation, linear, response  # noqa: E402
+from pedalrepro import evaluation, figures, linear, response  # noqa: E402
 from pedalrepro.figures import linear as figlin  # noqa: E402
-
-
-def test_every_figure_in_exactly_one_group():
-    groups = [f for g in figlin.FIGURE_GROUPS for f in figlin.figure_group(g)]
-    assert sorted(groups) == sorted(figlin.FIGURE_SPECS)
-    assert len(groups) == len(set(groups)) == 48
-    with pytest.raises(ValueError, match="unknown figure group"):
-        figlin.figure_group("all")
+from pedalrepro.figures import registry  # noqa: E402
 
 
 def test_inputs_follow_time_methods():
-    two = figlin.inputs_of("fig_3_10", "R", ["LA", "LN"])
-    four = figlin.inputs_of("fig_3_10", "R", ["LA", "LN", "NT", "NP"])
-    assert "R/intermediate/time/NP_HS.npz" in four and "R/intermediate/time/NP_HS.npz" not in two
+    two = registry.inputs("fig_3_10", "R", ["LA", "LN"])
+    four = registry.inputs("fig_3_10", "R", ["LA", "LN", "NT", "NP"])
+    assert sorted(set(four) - set(two)) == ["R/intermediate/time/NP_HS.npz",
+                                            "R/intermediate/time/NT_HS.npz"]
     assert "R/intermediate/ps/HS.npz" in two and "R/intermediate/eigen/HS.npz" in two
 
 
@@ -53,9 +48,11 @@ def results(tmp_path, monkeypatch):
                                              t).roll_rad[0, 0]
              for a, b in zip(pts.speed_m_s, pts.omega_rad_s, strict=True)]
     (tmp_path / "intermediate" / "time").mkdir()
-    np.savez(tmp_path / "intermediate" / "time" / "LA_HR.npz", example_speed_m_s=pts.speed_m_s,
-             example_omega_rad_s=pts.omega_rad_s, example_t_s=t,
-             example_roll_rad=np.stack(rolls), example_steer_rad=np.stack(rolls))
+    for method in ("LA", "LN"):
+        np.savez(tmp_path / "intermediate" / "time" / f"{method}_HR.npz",
+                 example_speed_m_s=pts.speed_m_s, example_omega_rad_s=pts.omega_rad_s,
+                 example_t_s=t, example_roll_rad=np.stack(rolls),
+                 example_steer_rad=np.stack(rolls))
     return tmp_path, np.stack(rolls)
 
 
@@ -63,23 +60,61 @@ def _texts(fig):
     return " ".join(t.get_text() for t in fig.texts)
 
 
+def _zoom_axes(fig):
+    """The six zoom panels (titled "<k>: v = ...") of a time figure, in order."""
+    import re
+
+    return [ax for ax in fig.axes if re.match(r"\d+: v = .*zoom", ax.get_title(loc="left"))]
+
+
 def test_time_figure_draws_present_methods_and_names_missing(results):
     tmp, rolls = results
-    fig = figlin.draw("fig_3_14", {})  # HR roll
-    assert "NT, NP" in _texts(fig) and "LN" in _texts(fig)
-    la_lines = [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_label() == "LA"]
-    assert len(la_lines) == 6
-    np.testing.assert_allclose(la_lines[2].get_ydata(), rolls[2])
-    # an extra method file (here a copy standing in for NT) is drawn and no longer "missing"
+    (tmp / "intermediate" / "time" / "LN_HR.npz").unlink(missing_ok=True)
+    with pytest.raises(FileNotFoundError, match="LN_HR.npz"):  # LN is required, NT/NP optional
+        registry.draw("fig_3_14", tmp)
     import shutil
 
     shutil.copy(tmp / "intermediate" / "time" / "LA_HR.npz",
+                tmp / "intermediate" / "time" / "LN_HR.npz")
+    fig = registry.draw("fig_3_14", tmp)  # HR roll
+    assert "NT, NP" in _texts(fig)
+    zooms = _zoom_axes(fig)
+    assert len(zooms) == 6
+    # each point: the whole run (small) and the zoom draw LA, LN and the particular solution
+    la = [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_label() == "LA"]
+    assert len(la) == 12
+    assert {ln.get_color() for ln in la} == {figures.palette.METHOD_STYLE["LA"]["color"]}
+    np.testing.assert_allclose(la[4].get_ydata(), rolls[2])  # point 3, whole run
+    # the zoom ends at the end of the run (or at the fall: NaN after it) and shows the last 5
+    # cadence periods (4-15 s)
+    t = np.arange(0, 5.0, 0.05)
+    for k, ax in enumerate(zooms):
+        lo, hi = ax.get_xlim()
+        w = evaluation.example_points("HR").omega_rad_s[k]
+        t_end = t[np.isfinite(rolls[k])][-1]
+        assert hi == pytest.approx(t_end)
+        assert hi - lo == pytest.approx(min(max(5 * 2 * np.pi / w, 4.0), 15.0, t_end), abs=1e-9)
+    # an extra method file (here a copy standing in for NT) is drawn and no longer "missing"
+    shutil.copy(tmp / "intermediate" / "time" / "LA_HR.npz",
                 tmp / "intermediate" / "time" / "NT_HR.npz")
-    fig = figlin.draw("fig_3_14", {})
+    fig = registry.draw("fig_3_14", tmp)
     assert "NT" not in _texts(fig).split("here:")[1].split("(")[0]
-    assert sum(ln.get_label() == "NT" for ax in fig.axes for ln in ax.get_lines()) == 6
+    assert sum(ln.get_label() == "NT" for ax in fig.axes for ln in ax.get_lines()) == 12
+    assert registry.completeness("fig_3_14", tmp)[0] == "missing"  # no PNG written yet
+    figures.save(fig, tmp / "figures" / "fig_3_14.png")
+    assert registry.completeness("fig_3_14", tmp) == ("partial", ["NP"])
+
+
+def test_zoom_window_ends_at_the_first_fall():
+    t = np.linspace(0.0, 20.0, 2001)
+    a = np.sin(t)
+    b = np.where(t <= 7.5, np.sin(t), np.nan)  # this method fell at 7.5 s
+    lo, hi = figlin.zoom_window(t, [a, b], omega_rad_s=2 * np.pi)  # 5 periods = 5 s
+    assert (lo, hi) == pytest.approx((2.5, 7.5))
+    lo, hi = figlin.zoom_window(t, [a], omega_rad_s=0.5)  # 5 periods = 63 s -> 15 s at most
+    assert (lo, hi) == pytest.approx((5.0, 20.0))
 
 
 def test_draw_rejects_unknown_id():
-    with pytest.raises(KeyError, match="not a figure of the linear part"):
-        figlin.draw("fig_9_9", {})
+    with pytest.raises(KeyError, match="not a registered figure"):
+        registry.draw("fig_9_9")

@@ -119,20 +119,28 @@ def test_compiled_rhs_equals_generated_python(name, options, steer):
                                rtol=1e-10, atol=1e-12)
 
 
-def test_moving_legs_mean_equals_rigid_rider():
-    """Removing the revolution-averaged leg bodies and adding them back restores body B."""
+def test_moving_legs_remove_exactly_the_frozen_legs():
+    """NP's body B plus the six bodies at crank angle 0 (the prescribed motion at t = 0)
+    restores the calibrated NT body exactly (issue 11 part 6)."""
     from pedalrepro.nonlinear import bodies, rigid
 
-    _, _, mean = bodies.leg_bodies("CR", 2.0 * np.pi)
-    rest = bodies.without_legs("CR", mean)
-    full = bodies.bicycle_rider("CR")
-    back = rigid.combine([rigid.body_part(rest, "B")] + list(mean))
+    _, spec, frozen = bodies.leg_bodies("CR", 2.0 * np.pi)
+    rest = bodies.without_legs("CR")
+    full = bodies.legs_fixed("CR")
+    back = rigid.combine([rigid.body_part(rest, "B")] + list(frozen))
     m, com, inertia = back.mass, back.com, back.inertia
     assert m == pytest.approx(full["mB"], rel=1e-12)
     assert com[0] == pytest.approx(full["xB"], abs=1e-12)
     assert com[2] == pytest.approx(full["zB"], abs=1e-12)
     assert inertia[0, 0] == pytest.approx(full["IBxx"], rel=1e-12)
     assert inertia[0, 2] == pytest.approx(full["IBxz"], rel=1e-10)
+    # the frozen bodies are where the prescribed motion puts them at t = 0 (rear-frame x, z)
+    lam, r_r = full["lam"], full["rR"]
+    s0 = spec(0.0)
+    for k, part in enumerate(frozen):
+        dx, dz = part.com[0], part.com[2] + r_r
+        assert s0[3 * k] == pytest.approx(dx * np.cos(lam) - dz * np.sin(lam), abs=1e-9)
+        assert s0[3 * k + 1] == pytest.approx(dx * np.sin(lam) + dz * np.cos(lam), abs=1e-9)
 
 
 def test_leg_fourier_series_reproduces_the_four_bar():

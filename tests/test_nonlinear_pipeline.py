@@ -39,8 +39,9 @@ def test_figures_draw_the_given_arrays():
             "HR_steer_ps_np": np.full((v.size, w.size), 3.0),
             "HR_stable": (v > 4) & (v < 8)}
     fig = fig_nl.fig_3_34(maps)
-    mesh = fig.axes[0].collections[0]
-    assert np.allclose(np.asarray(mesh.get_array()).ravel(), 2.0)
+    cs = fig.axes[0].collections[0]  # roll RD 2 %: only the 1-2.5 % band is filled
+    filled = [i for i, p in enumerate(cs.get_paths()) if len(p.vertices)]
+    assert [(cs.levels[i], cs.levels[i + 1]) for i in filled] == [(1.0, 2.5)]
     table = pd.DataFrame({"model": ["HR", "HR"], "matrix": ["M", "K0"], "i": [0, 0],
                           "j": [0, 1], "rel_diff": [0.1, 0.2]})
     fig2 = fig_nl.fig_linearisation_vs_appendix_b(table)

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import matplotlib
+import matplotlib.image
 
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 import pytest  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
 
 from pedalrepro import disturbance, figures, legs  # noqa: E402
 from pedalrepro.figures import section2  # noqa: E402
@@ -23,13 +23,47 @@ def data():
     return disturbance.to_arrays(d)
 
 
+def _ydata(ax):
+    return [np.asarray(line.get_ydata(), float) for line in ax.get_lines()]
+
+
+def _expected_curves(fid, data):
+    """(axes index, the y-data each of its first curves must show) per figure, from the arrays
+    the figure is given: the data drawn, not only that a figure came back."""
+    closed = lambda a: np.concatenate([a, a[:1]])  # noqa: E731  (paths are drawn closed)
+    n, w = np.asarray(data["spectrum_n"]), float(data["cadence_rad_s"])
+    amp = np.asarray(data["spectrum_com_amplitude_m"])
+    sel = n >= 1
+    return {
+        # side view: leg-model and cadence-only COM paths (z column against x)
+        "fig_2_2": [(1, [closed(data["com_m"])[:, 1], closed(data["com_simple_m"])[:, 1]])],
+        # acceleration panel: |X(n w)| (n w)^2, forward then vertical
+        "fig_2_4": [(2, [(amp[:, 0] * (n * w) ** 2)[sel], (amp[:, 1] * (n * w) ** 2)[sel]])],
+        "fig_2_5": [(0, [data["force_n"][:, 0], data["force_simple_n"][:, 0]]),
+                    (1, [data["force_n"][:, 2], data["force_simple_n"][:, 2]])],
+        "fig_2_6": [(k, [data["torque_nm"][:, k], data["torque_simple_nm"][:, k]])
+                    for k in range(3)],
+        "fig_2_7": [(k, [data["generalised_nm"][:, k], data["generalised_simple_nm"][:, k]])
+                    for k in range(2)],
+        "fig_2_3": [(0, [data["com_m"][:, 0], data["com_simple_m"][:, 0]])],
+        "fig_d_1": [(1, [data[f"pitch_rate_{s}_rad_s"] for s in ("crank", "shank", "thigh")])],
+    }[fid]
+
+
 @pytest.mark.parametrize("fid", IDS)
-def test_every_figure_function_returns_a_figure(fid, data, tmp_path):
+def test_every_figure_draws_its_data_and_saves_it(fid, data, tmp_path):
     with figures.style():
         fig = getattr(section2, fid)(data)
-    assert isinstance(fig, Figure)
+        size_px = np.round(fig.get_size_inches() * fig.dpi).astype(int)
+    for ax_index, curves in _expected_curves(fid, data):
+        drawn = _ydata(fig.axes[ax_index])
+        assert len(drawn) >= len(curves), (fid, ax_index)
+        for got, want in zip(drawn, curves, strict=False):
+            np.testing.assert_allclose(got, np.asarray(want, float), rtol=1e-12, atol=0)
     out = figures.save(fig, tmp_path / f"{fid}.png")
-    assert out.stat().st_size > 10_000
+    # the PNG written is the figure at the style's resolution (save trims no pixels)
+    height, width = matplotlib.image.imread(out).shape[:2]
+    assert (width, height) == (size_px[0], size_px[1]), fid
 
 
 def test_fig_2_3_draws_the_com_signals(data):

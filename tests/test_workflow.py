@@ -60,6 +60,22 @@ def test_reproduction_report_is_complete(quick_workflow):
     print(f"\nreport: {len(df)} rows, {counts}")
 
 
+def test_report_statuses_are_pinned(quick_workflow):
+    """Every row's status equals the one pinned for the quick profile in tests/expected_status.csv
+    (rows added or removed count as changes): a status cannot change unnoticed."""
+    assert quick_workflow.returncode == 0
+    path = quick_workflow.results / "tables" / "reproduction_report.csv"
+    rep = pd.read_csv(path, dtype=str, keep_default_na=False)
+    changes = report.status_changes(rep, report.expected_status(), "quick")
+    assert changes.empty, (
+        f"{len(changes)} report statuses differ from {report.EXPECTED_STATUS_FILE} (quick "
+        f"profile; '' = no such row):\n{changes.to_string(index=False)}\n"
+        "If the change is intended, record it with\n"
+        f"    pedalrepro report-status --profile quick --update {path}\n"
+        "and commit tests/expected_status.csv in the same commit as the change, giving the "
+        "reason for every changed status in the commit message.")
+
+
 def test_book_is_offline(quick_workflow):
     """No page references a script, style, font or image on another host; MathJax is local."""
     assert quick_workflow.returncode == 0

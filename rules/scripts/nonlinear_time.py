@@ -6,9 +6,10 @@ import time
 import numpy as np
 
 from pedalrepro import response
-from pedalrepro.nonlinear import sweep
+from pedalrepro.nonlinear import calibration, sweep
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
+calibration.use_file(snakemake.input.calibration)  # frames calibrated to Appendix B
 method, name = snakemake.wildcards.method, snakemake.wildcards.model
 chunk, n_chunks = int(snakemake.wildcards.chunk), int(snakemake.params.chunks)
 v, w = response.speed_cadence_grid(**snakemake.params.grid)

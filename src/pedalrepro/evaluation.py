@@ -36,10 +36,14 @@ point 3 would have Im = 1.77 rad/s, a 3.6 s period).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import gears, linear
+from . import gears, linear, response
+
+if TYPE_CHECKING:
+    from .params import LinearModel
 
 #: The evaluation points of Sec 3.1.3 computed from linear methods only.
 LINEAR_POINTS: tuple[str, ...] = ("1c", "2b", "3a", "3b", "4", "5", "6")
@@ -136,3 +140,88 @@ def reference_indices(speed_m_s: np.ndarray, omega_rad_s: np.ndarray, speed_ref_
     i = int(np.argmin(np.abs(speed_m_s - speed_ref_m_s)))
     j = int(np.argmin(np.abs(omega_rad_s - omega_ref_rad_s)))
     return i, j
+
+
+#: Non-linear evaluation points (Sec 3.1.3.1) and the RD map each is summarised from:
+#: 1a (= 2a) NT vs NP, NP the reference; 1b LN vs NT, NT the reference; PS vs NP (Fig 3.34).
+NONLINEAR_RD_MAPS: dict[str, str] = {"1a": "nt_np", "1b": "ln_nt", "ps_np": "ps_np"}
+
+
+def nonlinear_rd_maps(
+    models: dict[str, LinearModel],
+    nt: dict[str, dict[str, np.ndarray]],
+    np_: dict[str, dict[str, np.ndarray]],
+    harmonics: dict[str, response.Harmonics],
+    speed_m_s: np.ndarray,
+    omega_rad_s: np.ndarray,
+    t_s: np.ndarray,
+    sample_rate_hz: float,
+    fall_roll_rad: float,
+) -> tuple[dict[str, np.ndarray], dict[str, list[tuple[float, float]]]]:
+    """RD maps (Eq 3.26) of the non-linear evaluation points and each model's stable speeds.
+
+    The linear references (PS, LN) come from the project's own linearisation of the same
+    non-linear model (``models``), so that the RDs measure the method, not a parameter
+    difference (Sec 3.2.4, Fig 3.34).
+
+    Parameters
+    ----------
+    models
+        Linearisation of each non-linear model, by name (HS, CF, HR, CR).
+    nt, np_
+        The NT and NP time-solution grids of each model (``roll_amp_rad``, ``steer_amp_rad``,
+        shape ``(n_v, n_w)``, on ``speed_m_s`` x ``omega_rad_s``).
+    harmonics
+        Pedalling torque harmonics (Eq 3.14) of each model.
+    speed_m_s, omega_rad_s, t_s
+        The time-solution grid and sample times (s) of the NT/NP runs.
+    sample_rate_hz, fall_roll_rad
+        Sampling of the Hann DFT and the fall criterion of the LN runs.
+
+    Returns
+    -------
+    maps
+        ``speed_m_s``, ``omega_rad_s``, ``models`` and, per model and dof (roll, steer),
+        ``<model>_<dof>_ps_np`` (RD of PS vs NP), ``<model>_<dof>_nt_np`` (NT vs NP),
+        ``<model>_<dof>_ln_nt`` (LN vs NT), in percent, and ``<model>_stable`` (bool, ``(n_v,)``:
+        speeds inside a self-stable range of the linearisation).
+    stable_ranges
+        The self-stable speed ranges (m/s) of each model's linearisation.
+    """
+    v, w = np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float)
+    maps: dict[str, np.ndarray] = {"speed_m_s": v, "omega_rad_s": w}
+    ranges_of: dict[str, list[tuple[float, float]]] = {}
+    for name, lm in models.items():
+        h = harmonics[name]
+        ln = response.analytic_time_solution(lm, v, w, h, t_s, fall_roll_rad)
+        ln_roll, ln_steer = response.cadence_amplitudes(ln, sample_rate_hz, "hann")
+        ps_roll, ps_steer = response.particular_solution(lm, v[:, None], w[None, :], h)
+        ps_amp = {"roll": np.abs(ps_roll[..., 0]), "steer": np.abs(ps_steer[..., 0])}
+        ln_amp = {"roll": ln_roll, "steer": ln_steer}
+        ranges = linear.stable_ranges(lm, np.arange(0.0, v.max() + 0.02, 0.01))
+        mask = np.zeros(v.shape, bool)
+        for lo, hi in ranges:
+            mask |= (v > lo) & (v < hi)
+        for dof in ("roll", "steer"):
+            nt_a, np_a = nt[name][f"{dof}_amp_rad"], np_[name][f"{dof}_amp_rad"]
+            maps[f"{name}_{dof}_ps_np"] = relative_difference(np_a, ps_amp[dof])
+            maps[f"{name}_{dof}_nt_np"] = relative_difference(np_a, nt_a)
+            maps[f"{name}_{dof}_ln_nt"] = relative_difference(nt_a, ln_amp[dof])
+        maps[f"{name}_stable"] = mask
+        ranges_of[name] = ranges
+    maps["models"] = np.array(list(models))
+    return maps, ranges_of
+
+
+def nonlinear_rd_stats(maps: dict[str, np.ndarray], point: str
+                       ) -> dict[tuple[str, str], RDStats | None]:
+    """Median and range of a non-linear evaluation point's RD map (:data:`NONLINEAR_RD_MAPS`)
+    over the self-stable speeds of each model, by (model, dof), from :func:`nonlinear_rd_maps`."""
+    key = NONLINEAR_RD_MAPS[point]
+    v, w = maps["speed_m_s"], maps["omega_rad_s"]
+    out: dict[tuple[str, str], RDStats | None] = {}
+    for name in (str(m) for m in maps["models"]):
+        mask = np.broadcast_to(np.asarray(maps[f"{name}_stable"], bool)[:, None], (v.size, w.size))
+        for dof in ("roll", "steer"):
+            out[(name, dof)] = rd_stats(maps[f"{name}_{dof}_{key}"], mask)
+    return out

@@ -167,14 +167,16 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
     """Reproduction-report rows: Table 4.1 (measured columns, median RD) and Table 4.2.
 
     Measured quantities built from the synthetic stand-in get the status ``not reproducible
-    here`` with the reason; from the real data they are compared (3 decimals in Table 4.1: abs
-    5e-4 rad; Table 4.2 percentages: abs 0.5 %). The model columns are the linear part's rows
+    here`` with the reason; from the real data they are compared by the checks of
+    ``data/published/claims.yaml`` (ids ``table_4_1.measured.*``, ``table_4_1.median_rd.*``,
+    ``table_4_2.*``). The model columns are the linear part's rows
     ("Table 4.1 <column> <roll|steer> model", ``rules/scripts/linear_report.py``), not repeated
     here.
     """
     rows: list[report.Row] = []
     synthetic = data_source != "figshare"
-    why = reason or NOT_MEASUREMENT
+    why = (reason or NOT_MEASUREMENT) if synthetic else None
+    label = " (synthetic)" if synthetic else ""
     pub = published["table_4_1_model_validation"]
     runs = t41[~t41.system.isin(["median", "range"])].reset_index(drop=True)
     for i, (sys_, v) in enumerate(zip(pub["system"], pub["speed_kmh"], strict=True)):
@@ -183,35 +185,21 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
             raise ValueError(f"Table 4.1 lacks {sys_} at {v} km/h")
         row = hit.iloc[0]
         for q in ("roll", "steer"):
-            item = f"Table 4.1 {q} measured, {sys_} {v} km/h"
-            p_meas = float(pub[f"{q}_measured_rad"][i])
-            if synthetic:
-                rows.append(report.Row(item, "4.2", f"{p_meas:.3f}",
-                                       f"{row[f'{q}_measured_rad']:.3f} (synthetic)",
-                                       "abs 0.0005", report.NOT_REPRODUCIBLE, why))
-            else:
-                rows.append(report.compare(item, "4.2", p_meas, float(row[f"{q}_measured_rad"]),
-                                           abs_=5e-4, fmt="{:.4f}"))
+            rows.append(report.check(
+                "table_4_1.measured.{coord}.{system}_{speed}", float(row[f"{q}_measured_rad"]),
+                coord=q, system=sys_, speed=v, i=i, label=label, unavailable=why))
     for q in ("roll", "steer"):
-        item = f"Table 4.1 median RD {q}"
-        p = float(pub[f"{q}_summary"]["rd_median_percent"])
         got = float(t41.loc[t41.system == "median", f"{q}_rd_percent"].iloc[0])
-        rows.append(report.Row(item, "4.2", f"{p:g}", f"{got:.1f}" + (" (synthetic)" if
-                    synthetic else ""), "abs 0.5", report.NOT_REPRODUCIBLE, why) if synthetic
-                    else report.compare(item, "4.2", p, got, abs_=0.5, fmt="{:.1f}"))
+        rows.append(report.check("table_4_1.median_rd.{coord}", got, coord=q, label=label,
+                                 unavailable=why))
     p42 = published["table_4_2_open_vs_closed_loop"]
     for i, sys_ in enumerate(p42["systems"]):
         hit = t42[t42.system == sys_]
         for key in ("roll_rd_median_percent", "roll_rd_range_percent",
                     "steer_rd_median_percent", "steer_rd_range_percent"):
-            item = f"Table 4.2 {key.replace('_', ' ')}, {sys_}"
-            p = float(p42[key][i])
-            got = float(hit[key].iloc[0])
-            if synthetic:
-                rows.append(report.Row(item, "4.2", f"{p:g}", f"{got:.0f} (synthetic)",
-                                       "abs 0.5", report.NOT_REPRODUCIBLE, why))
-            else:
-                rows.append(report.compare(item, "4.2", p, got, abs_=0.5, fmt="{:.0f}"))
+            rows.append(report.check(
+                "table_4_2.{key}.{system}", float(hit[key].iloc[0]), key=key, system=sys_, i=i,
+                quantity=key.replace("_", " "), label=label, unavailable=why))
     return rows
 
 

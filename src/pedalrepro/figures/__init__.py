@@ -1,48 +1,29 @@
 """One function per thesis figure: arrays/DataFrames in, a matplotlib ``Figure`` out.
 
-The same functions serve the Snakemake rules (which save ``results/figures/<id>.png``) and the
-notebooks (which show them). Submodules by thesis part: ``section2``, ``linear``, ``nonlinear``,
-``validation``. Use :func:`style` so every figure looks alike, and :func:`save` to write one.
+Every figure is registered in ONE table, :mod:`pedalrepro.figures.registry` (id -> drawing
+function and the files it reads), which the Snakemake rules (``rules/figures.smk``: inputs,
+outputs, :func:`registry.write`) and the notebooks (:func:`draw`, ``show(None, id)``) both use.
+Drawing functions by thesis part: ``section2``, ``linear``, ``nonlinear``, ``validation``; model
+colours and method line styles in ``palette``.
+
+Figures are drawn for the page: at most :data:`MAX_WIDTH_IN` (the book's 672 px content width)
+wide, with no text below :data:`MIN_FONT_PT`; :func:`save` refuses a figure that is not, and
+writes a PNG and a PDF (vector) beside it; the book links each figure to both.
 """
 
 from __future__ import annotations
 
-from contextlib import contextmanager
 from pathlib import Path
 
-import matplotlib
-
 from .. import paths
-
-#: Read through ``paths.STYLE`` (see pedalrepro.dependencies).
-DATA_FILES: tuple[str, ...] = ("src/pedalrepro/pedalrepro.mplstyle",)
-
-
-@contextmanager
-def style():
-    """Context manager applying the project's matplotlib style (``pedalrepro.mplstyle``)."""
-    with matplotlib.style.context(str(paths.STYLE)):
-        yield
-
-
-def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
-    """Save ``fig`` to ``path`` (PNG), creating the folder, and close it."""
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
-
-
-def synthetic_stamp(fig: matplotlib.figure.Figure, reason: str = "") -> None:
-    """Write a visible SYNTHETIC label on a figure built from the synthetic stand-in data."""
-    text = "SYNTHETIC DATA (stand-in for the treadmill data)"
-    if reason:
-        text += f": {reason}"
-    fig.text(0.5, 0.995, text, ha="center", va="top", color="crimson", fontsize=9,
-             fontweight="bold")
+from .page import (  # noqa: F401  (the package's public names)
+    MAX_WIDTH_IN,
+    MIN_FONT_PT,
+    check_legible,
+    save,
+    style,
+    synthetic_stamp,
+)
 
 
 def thesis_label(figure_id: str) -> str:
@@ -55,12 +36,20 @@ def thesis_label(figure_id: str) -> str:
     return ("Table " if kind == "table" else "Figure ") + ".".join(parts)
 
 
+#: Where the book serves the figure files, relative to a chapter page (``notebooks/*.html``):
+#: the rule ``book`` copies ``results/figures`` to ``_build/html/figures``.
+BOOK_FIGURES_HREF = "../figures/"
+
+
 def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | None = None,
-                caption: str = "") -> str:
+                caption: str = "", link: bool = False) -> str:
     """The HTML element the book shows for one figure or table id (see CONTRIBUTING.md,
     "Figures in the book"): ``<figure class="pedalrepro-figure" id="pedalrepro-<id>"
     data-figure-id="<id>">`` holding an ``<img alt="<id> ...">`` (PNG embedded as a data URI, so
-    the page needs no other file) or an HTML table, and a caption led by the thesis number."""
+    the page needs no other file) or an HTML table, and a caption led by the thesis number.
+
+    ``link``: the image opens the full-size PNG, and the caption links the PNG and the PDF (vector)
+    served beside the book (:data:`BOOK_FIGURES_HREF`)."""
     import base64
     import html
 
@@ -72,6 +61,12 @@ def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | N
         data = base64.b64encode(png).decode("ascii")
         body = (f'<img src="data:image/png;base64,{data}" alt="{figure_id}: {label}" '
                 'style="max-width:100%;height:auto">')
+        if link:
+            href = f"{BOOK_FIGURES_HREF}{figure_id}"
+            body = (f'<a class="pedalrepro-full-size" href="{href}.png" '
+                    f'title="open full size">{body}</a>')
+            cap += (f' <span class="pedalrepro-downloads">Full size: <a href="{href}.png">PNG'
+                    f'</a> · <a href="{href}.pdf">PDF (vector)</a></span>')
     elif table_html is not None:
         body = f'<div class="pedalrepro-table" style="overflow-x:auto">{table_html}</div>'
     else:
@@ -88,7 +83,8 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
     obj : matplotlib.figure.Figure, pandas.DataFrame, str, pathlib.Path or None
         The figure (it is closed afterwards, so the inline backend does not show it twice), a
         table, a PNG/CSV file, or None to show the pipeline's own ``results/figures/<id>.png`` or
-        ``results/tables/<id>.csv``.
+        ``results/tables/<id>.csv``. A figure is linked to the rule's full-size PNG and PDF when
+        they exist.
     figure_id : str
         The id of FIGURES.md / ``data/figure_ids.yaml`` (``"fig_2_3"``, ``"table_d_1"``).
     caption : str
@@ -97,9 +93,8 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
     Examples
     --------
     >>> from pedalrepro import figures
-    >>> with figures.style():                                    # doctest: +SKIP
-    ...     fig = figures.section2.fig_2_3(kinematics)
-    >>> figures.show(fig, "fig_2_3", "Right-leg COM at 60 rpm.")   # doctest: +SKIP
+    >>> figures.show(figures.draw("fig_2_3"), "fig_2_3", "Right-leg COM.")  # doctest: +SKIP
+    >>> figures.show(None, "fig_3_10", "Model HS, roll.")   # the rule's file  # doctest: +SKIP
     """
     import io
 
@@ -125,13 +120,16 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
         if isinstance(obj, (str, Path)):
             png = Path(obj).read_bytes()
         else:
+            check_legible(obj, figure_id)
             buf = io.BytesIO()
-            obj.savefig(buf, format="png")
+            with style():
+                obj.savefig(buf, format="png")
             plt.close(obj)
             png = buf.getvalue()
         import base64
 
-        bundle["text/html"] = figure_html(figure_id, png, caption=caption)
+        link = paths.figure(figure_id).exists() and paths.figure(figure_id, fmt="pdf").exists()
+        bundle["text/html"] = figure_html(figure_id, png, caption=caption, link=link)
         bundle["image/png"] = base64.b64encode(png).decode("ascii")
     display(bundle, raw=True)
 
@@ -164,3 +162,6 @@ def plain_numbers_in_notebooks() -> bool:
 
 
 plain_numbers_in_notebooks()
+
+from . import registry  # noqa: E402, F401  (the table of figures)
+from .registry import draw  # noqa: E402, F401

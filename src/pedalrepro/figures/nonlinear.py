@@ -7,42 +7,57 @@ from collections.abc import Mapping
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from matplotlib.colors import LogNorm
+
+from .palette import model_colour
 
 
-def fig_3_34(maps: Mapping[str, np.ndarray]) -> plt.Figure:
+def fig_3_34(maps: Mapping[str, np.ndarray],
+             eigen: Mapping[str, Mapping[str, np.ndarray]] | None = None) -> plt.Figure:
     """RD (Eq 3.26) of the particular solution vs the non-linear pedalling model NP (Fig 3.34).
+
+    As every other map: forward speed on x, cadence on y; one row per model, roll (left) and
+    steer (right); the colour bar labels the thesis's levels (0.1, 1, 2.5, 5, 10, 25, 100 %);
+    the self-stable speeds between two vertical lines (colours unchanged) and the weave
+    imaginary part dashed (Appendix B linear model's, ``eigen``), as the thesis's caption.
 
     Parameters
     ----------
     maps
         ``speed_m_s``, ``omega_rad_s``, ``models`` and ``<model>_<roll|steer>_ps_np`` (percent,
         speed x cadence), ``<model>_stable`` (speeds inside the self-stable range), as written by
-        the ``nonlinear_report`` rule (``results/intermediate/nonlinear/rd_maps.npz``).
+        the ``nonlinear_rd`` rule (``results/intermediate/nonlinear/rd_maps.npz``).
+    eigen
+        Optional eigen sweeps by model (``results/intermediate/eigen/<model>.npz``) for the
+        weave line.
     """
+    from .linear import WIDTH_IN, rd_colorbar, rd_map
+
     v, w = np.asarray(maps["speed_m_s"]), np.asarray(maps["omega_rad_s"])
     models = [str(m) for m in np.atleast_1d(maps["models"])]
-    fig, axes = plt.subplots(2, len(models), figsize=(4.2 * len(models), 6.4), squeeze=False,
-                             sharex=True, sharey=True)
-    norm = LogNorm(1e-2, 1e2)
-    mesh = None
-    for j, name in enumerate(models):
-        for i, dof in enumerate(("roll", "steer")):
+    fig, axes = plt.subplots(len(models), 2, figsize=(WIDTH_IN, 0.8 + 2.1 * len(models)),
+                             squeeze=False, sharex=True, sharey=True, layout="constrained")
+    cs = None
+    for i, name in enumerate(models):
+        for j, dof in enumerate(("roll", "steer")):
             ax = axes[i, j]
             rd = np.asarray(maps[f"{name}_{dof}_ps_np"], float)
-            shown = np.clip(np.where(np.isfinite(rd), rd, np.nan), 1e-2, 1e2)
-            mesh = ax.pcolormesh(w, v, shown, norm=norm, cmap="viridis", shading="nearest")
+            cs = rd_map(ax, v, w, rd, None, f"{name}: {dof}, PS to NP")
             stable = np.asarray(maps[f"{name}_stable"], bool)
             if stable.any():
                 half = 0.5 * (v[1] - v[0]) if v.size > 1 else 0.1
-                ax.axhspan(v[stable].min() - half, v[stable].max() + half, fill=False, ls="--",
-                           ec="w", lw=1.2)
-            ax.set_title(f"{name}: {dof}")
-            if i == 1:
-                ax.set_xlabel(r"cadence $\omega$ (rad/s)")
+                for x in (v[stable].min() - half, v[stable].max() + half):
+                    ax.axvline(x, color="w", lw=1.0)
+            e = (eigen or {}).get(name)
+            if e is not None:
+                f = np.where(e["weave_frequency_rad_s"] > 0, e["weave_frequency_rad_s"], np.nan)
+                ax.plot(e["speed_m_s"], f, color="w", ls="--", lw=1.0)
+            ax.set_xlim(v.min(), v.max())
+            ax.set_ylim(w.min(), w.max())
+            if i == len(models) - 1:
+                ax.set_xlabel("forward speed v (m/s)")
             if j == 0:
-                ax.set_ylabel("speed v (m/s)")
-    fig.colorbar(mesh, ax=axes, label="RD PS vs NP (%)")
+                ax.set_ylabel(r"cadence $\omega$ (rad/s)")
+    rd_colorbar(fig, cs, axes, "RD PS vs NP (%)")
     return fig
 
 
@@ -53,14 +68,15 @@ def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     linearisation; HS: the rigid-rider body of the substitute before its correction
     (``compared`` column).
     """
-    fig, ax = plt.subplots(figsize=(7, 3.2))
+    fig, ax = plt.subplots(figsize=(7, 3.4), layout="constrained")
     labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]
     for name, group in table.groupby("model", sort=False):
         idx = [k for k, r in enumerate(table.itertuples()) if r.model == name]
-        ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name)
-    ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
+        ax.plot(idx, 100 * group["rel_diff"].to_numpy(), "o", label=name,
+                color=model_colour(str(name)))
+    ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=8)
     ax.set_ylabel("|project - App. B| / |App. B| (%)")
-    ax.legend(fontsize=7, ncols=2)
+    ax.legend(fontsize=8, ncols=2)
     return fig
 
 
@@ -78,13 +94,12 @@ def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndar
         (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): the same model with the
         rider (shoulders included) not lowered, the hands on the handlebar.
     """
-    from .linear import eigen_panel
+    from .linear import WIDTH_IN, eigen_panel
 
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.8), sharey=True)
-    eigen_panel(axes[0], cf, "CF (own model, arm loops), seat 0.72 m")
-    eigen_panel(axes[1], cf_original_seat, "CF (own model, arm loops), seat 0.77 m")
-    axes[0].legend(loc="lower left", fontsize=7)
-    fig.tight_layout()
+    fig, axes = plt.subplots(1, 2, figsize=(WIDTH_IN, 3.8), sharey=True, layout="constrained")
+    eigen_panel(axes[0], cf, "CF, seat 0.72 m")
+    eigen_panel(axes[1], cf_original_seat, "CF, seat 0.77 m")
+    axes[0].legend(loc="lower left", fontsize=8)
     return fig
 
 
@@ -95,11 +110,13 @@ def example_runs(nt: Mapping[str, np.ndarray], np_: Mapping[str, np.ndarray],
     ``nt``, ``np_``: the ``results/intermediate/time/<method>_<model>.npz`` contents.
     """
     t = np.asarray(nt["example_t_s"])
-    fig, axes = plt.subplots(3, 2, figsize=(9, 6.5), sharex=True)
+    from .palette import METHOD_STYLE
+
+    fig, axes = plt.subplots(3, 2, figsize=(7, 6.5), sharex=True, layout="constrained")
     for k, ax in enumerate(axes.T.ravel()):
-        ax.plot(t, np.degrees(nt["example_roll_rad"][k]), lw=0.9, label="NT")
-        ax.plot(t, np.degrees(np_["example_roll_rad"][k]), lw=0.9, ls="--", label="NP")
-        ax.set_title(f"{model} point {k + 1}: v = {nt['example_speed_m_s'][k]:.1f} m/s, "
+        ax.plot(t, np.degrees(nt["example_roll_rad"][k]), **METHOD_STYLE["NT"], label="NT")
+        ax.plot(t, np.degrees(np_["example_roll_rad"][k]), **METHOD_STYLE["NP"], label="NP")
+        ax.set_title(f"{model} {k + 1}: v = {nt['example_speed_m_s'][k]:.1f} m/s, "
                      rf"$\omega$ = {nt['example_omega_rad_s'][k]:.1f} rad/s", fontsize=8)
         ax.set_ylabel("roll (deg)")
     for ax in axes[-1]:

@@ -41,10 +41,11 @@ def fig_2_2(data: Mapping[str, np.ndarray], snapshots: int = 4) -> Figure:
     """Fig 2.2: leg COM paths of both legs in 3D, side and front views; four-bar vs cadence-only
     skew-elliptical path, with the segment COM paths and a few four-bar positions (right leg)."""
     half = float(data["hip_width_m"]) / 2.0
-    fig = plt.figure(figsize=(11.0, 4.2))
-    ax3 = fig.add_subplot(1, 3, 1, projection="3d")
-    side = fig.add_subplot(1, 3, 2)
-    front = fig.add_subplot(1, 3, 3)
+    fig = plt.figure(figsize=(7.0, 8.0), layout="constrained")
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.0, 1.25])
+    ax3 = fig.add_subplot(gs[0, 0], projection="3d")
+    front = fig.add_subplot(gs[0, 1])
+    side = fig.add_subplot(gs[1, :])
     for prefix, y, ls in (("", half, "-"), ("left_", -half, "--")):
         com = _closed(np.asarray(data[f"{prefix}com_m"]))
         simple = _closed(np.asarray(data[f"{prefix}com_simple_m"]))
@@ -69,15 +70,17 @@ def fig_2_2(data: Mapping[str, np.ndarray], snapshots: int = 4) -> Figure:
         chain = np.array([[0.0, 0.0], data["pedal_m"][i], data["knee_m"][i], data["hip_m"][i]])
         side.plot(chain[:, 0], chain[:, 1], "k-o", lw=0.6, ms=2, alpha=0.5)
     side.plot(0, 0, "ks", ms=4)
-    side.annotate("crank axis A", (0, 0), (0.03, 0.12), fontsize=7)
-    side.annotate("hip C", tuple(np.asarray(data["hip_m"])[0]), fontsize=7)
+    side.annotate("crank axis A", (0, 0), (0.03, 0.12), fontsize=8)
+    side.annotate("hip C", tuple(np.asarray(data["hip_m"])[0]), fontsize=8)
     side.set_aspect("equal")
     side.invert_yaxis()
     side.set_xlabel("x forward (m)")
     side.set_ylabel("z down (m)")
     side.set_title("side view (right leg, sagittal plane)")
-    side.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=6)
+    side.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     front.invert_yaxis()
+    front.yaxis.tick_right()  # away from the 3D view's z label
+    front.yaxis.set_label_position("right")
     front.set_xlabel("y right (m)")
     front.set_ylabel("z down (m)")
     front.set_title("front view (both legs)")
@@ -87,7 +90,6 @@ def fig_2_2(data: Mapping[str, np.ndarray], snapshots: int = 4) -> Figure:
     ax3.set_ylabel("y (m)")
     ax3.set_zlabel("z (m)")
     ax3.set_title("3D view (both legs)")
-    fig.tight_layout()
     return fig
 
 
@@ -98,7 +100,7 @@ def fig_2_3(data: Mapping[str, np.ndarray]) -> Figure:
     rows = (("com_m", "com_simple_m", "position (m)"),
             ("com_vel_m_s", "com_simple_vel_m_s", "speed (m/s)"),
             ("com_acc_m_s2", "com_simple_acc_m_s2", "acceleration (m/s$^2$)"))
-    fig, axes = plt.subplots(3, 2, figsize=(8.0, 7.0), sharex=True)
+    fig, axes = plt.subplots(3, 2, figsize=(7.0, 7.0), sharex=True, layout="constrained")
     for r, (key, skey, label) in enumerate(rows):
         for c, axis in enumerate(("forward x", "vertical z")):
             ax = axes[r, c]
@@ -113,7 +115,6 @@ def fig_2_3(data: Mapping[str, np.ndarray]) -> Figure:
     axes[0, 0].legend()
     w = float(data["cadence_rad_s"])
     fig.suptitle(f"Right-leg COM at {w * 30 / np.pi:.0f} rpm")
-    fig.tight_layout()
     return fig
 
 
@@ -124,7 +125,7 @@ def fig_2_4(data: Mapping[str, np.ndarray], max_harmonic: int = 10) -> Figure:
     amp = np.asarray(data["spectrum_com_amplitude_m"])
     w = float(data["cadence_rad_s"])
     f_hz = n * w / (2 * np.pi)
-    fig, axes = plt.subplots(1, 3, figsize=(10.0, 3.4))
+    fig, axes = plt.subplots(1, 3, figsize=(7.0, 3.4), layout="constrained")
     labels = ("position (m)", "speed (m/s)", "acceleration (m/s$^2$)")
     for k, ax in enumerate(axes):
         scale = (n * w) ** k
@@ -139,10 +140,10 @@ def fig_2_4(data: Mapping[str, np.ndarray], max_harmonic: int = 10) -> Figure:
         ax.set_ylim(top * 1e-6, top * 3)
         ax.set_xlim(-0.5 * f_hz[1], (max_harmonic + 0.5) * f_hz[1])
         ax.set_xlabel("frequency (Hz)")
-        ax.set_ylabel(f"amplitude, {labels[k]}")
+        ax.set_title(labels[k])
+    axes[0].set_ylabel("amplitude")
     axes[0].legend()
     fig.suptitle(f"Right-leg COM spectrum, cadence {w / (2 * np.pi):.3g} Hz")
-    fig.tight_layout()
     return fig
 
 
@@ -150,7 +151,7 @@ def fig_2_5(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.5: d'Alembert forces of both legs (Eq 2.8) vs crank angle, forward and vertical,
     four-bar vs cadence-only (whose forces cancel exactly)."""
     return _crank_panels(data, "force_n", ((0, "forward $F_x$"), (2, "vertical $F_z$")), "N",
-                         8.0)
+                         7.0)
 
 
 def _crank_panels(data: Mapping[str, np.ndarray], key: str, panels: tuple[tuple[int, str], ...],
@@ -158,7 +159,8 @@ def _crank_panels(data: Mapping[str, np.ndarray], key: str, panels: tuple[tuple[
     """One panel per ``(column, name)`` of ``panels``: ``data[key]`` (leg model) and its
     simplified counterpart (``force_n`` -> ``force_simple_n``) against the crank angle."""
     deg = _deg(data)
-    fig, axes = plt.subplots(1, len(panels), figsize=(width_in, 3.2), sharex=True)
+    fig, axes = plt.subplots(1, len(panels), figsize=(width_in, 3.4), sharex=True,
+                             layout="constrained")
     quantity, suffix = key.rsplit("_", 1)
     for ax, (col, name) in zip(axes, panels, strict=True):
         ax.plot(deg, np.asarray(data[key])[:, col], "C0", label=LEG)
@@ -167,27 +169,26 @@ def _crank_panels(data: Mapping[str, np.ndarray], key: str, panels: tuple[tuple[
         ax.set_ylabel(f"{name} ({unit})")
         ax.set_xlabel(r"crank angle $\omega t$ (deg)")
         _crank_axis(ax)
-    axes[0].legend()
-    fig.tight_layout()
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=2)
     return fig
 
 
 def fig_2_6(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.6: Cartesian d'Alembert torques (Eq 2.9) roll, pitch and yaw vs crank angle."""
     return _crank_panels(data, "torque_nm",
-                         ((0, "roll $T_x$"), (1, "pitch $T_y$"), (2, "yaw $T_z$")), "N m", 10.0)
+                         ((0, "roll $T_x$"), (1, "pitch $T_y$"), (2, "yaw $T_z$")), "N m", 7.0)
 
 
 def fig_2_7(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig 2.7: generalised roll and steer torques (Eq 2.15, 2.22, 2.24) vs crank angle."""
     return _crank_panels(data, "generalised_nm",
-                         ((0, r"roll $T_\phi$"), (1, r"steer $T_\delta$")), "N m", 8.0)
+                         ((0, r"roll $T_\phi$"), (1, r"steer $T_\delta$")), "N m", 7.0)
 
 
 def fig_d_1(data: Mapping[str, np.ndarray]) -> Figure:
     """Fig D.1: pitch angle, rate and acceleration of crank, lower leg and upper leg (right leg)."""
     deg = _deg(data)
-    fig, axes = plt.subplots(3, 1, figsize=(6.5, 7.0), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(6.5, 7.0), sharex=True, layout="constrained")
     keys = (("pitch_{}_rad", "pitch angle (deg)", True),
             ("pitch_rate_{}_rad_s", "pitch rate (rad/s)", False),
             ("pitch_acc_{}_rad_s2", "pitch acceleration (rad/s$^2$)", False))
@@ -202,7 +203,6 @@ def fig_d_1(data: Mapping[str, np.ndarray]) -> Figure:
         _crank_axis(ax)
     axes[0].legend()
     axes[-1].set_xlabel(r"crank angle $\omega t$ (deg)")
-    fig.tight_layout()
     return fig
 
 
@@ -224,7 +224,7 @@ def fig_table_d_1_deviation(table: pd.DataFrame, published: pd.DataFrame) -> Fig
     merged = table.merge(published, on=["case", "axis", "n"], suffixes=("", "_pub"))
     rel = np.abs(merged["amplitude_m"] / merged["amplitude_m_pub"] - 1)
     dphi = np.abs(np.angle(np.exp(1j * (merged["phase_rad"] - merged["phase_rad_pub"]))))
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.0))
+    fig, axes = plt.subplots(1, 2, figsize=(7.0, 3.0), layout="constrained")
     for ax, vals, name in ((axes[0], rel, "relative amplitude deviation"),
                            (axes[1], dphi, "phase deviation (rad)")):
         ax.semilogy(np.arange(len(vals)), np.maximum(vals, 1e-17), "o", ms=3)
@@ -232,5 +232,4 @@ def fig_table_d_1_deviation(table: pd.DataFrame, published: pd.DataFrame) -> Fig
         ax.set_xlabel("entry (case x axis x n)")
         ax.set_ylabel(name)
     axes[0].legend()
-    fig.tight_layout()
     return fig

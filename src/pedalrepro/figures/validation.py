@@ -2,7 +2,11 @@
 
 Each function takes arrays/DataFrames and returns a matplotlib Figure; the Snakemake rule saves
 it and the notebook shows it. ``synthetic_reason`` (non-empty when the data are the synthetic
-stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_stamp`.
+stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_stamp`. The
+``draw_*`` functions are what :mod:`pedalrepro.figures.registry` calls: they take the loaded
+files (per-run table, measured series, data source, and the model maps and series written by
+the rule ``validation_figure_data``, :func:`pedalrepro.figdata.validation`). Models are drawn in
+their chapter-3 colours (:mod:`pedalrepro.figures.palette`).
 """
 
 from __future__ import annotations
@@ -16,7 +20,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from .. import spectral
-from . import synthetic_stamp
+from .page import synthetic_stamp
+from .palette import MEASURED_COLOUR, model_colour
 
 SYSTEM_FIGURES = {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
                   "HR": ("fig_4_4", "fig_4_8"), "CR": ("fig_4_5", "fig_4_9")}
@@ -59,8 +64,8 @@ def _contour(ax, ps: PSMap, which: str, runs: Sequence[tuple[float, float]] | No
     ax.set_ylabel("cadence $\\omega$ (rad/s)")
     if runs:
         for i, (v, w) in enumerate(runs, start=1):
-            ax.plot(v, w, "o", mfc="white", mec="k", ms=9)
-            ax.text(v, w, str(i), ha="center", va="center", fontsize=7)
+            ax.plot(v, w, "o", mfc="white", mec="k", ms=11)
+            ax.text(v, w, str(i), ha="center", va="center", fontsize=8)
     return cs
 
 
@@ -74,24 +79,24 @@ def _example_grid(system: str, examples: Sequence[ExampleRun], ps: PSMap, coord:
     and a grid of one row per example run, two columns (roll, steer) below; returns
     ``(fig, gridspec)``."""
     n = len(examples)
-    fig = plt.figure(figsize=(8.0, 2.6 + 1.25 * n))
+    fig = plt.figure(figsize=(7.0, 2.8 + 1.3 * n), layout="constrained")
     gs = fig.add_gridspec(n + 1, 2, height_ratios=[2.2] + [1] * n)
     ax = fig.add_subplot(gs[0, :])
     cs = _contour(ax, ps, coord, [(e.speed_kmh / 3.6, e.cadence_rpm * np.pi / 30)
                                   for e in examples])
     fig.colorbar(cs, ax=ax, label=f"log$_{{10}}$ {coord} amplitude (rad)")
-    ax.set_title(f"system {system}: particular-solution {coord} amplitude and example runs")
+    ax.set_title(f"system {system}: PS {coord} amplitude and example runs")
     return fig, gs
 
 
 def _label_cell(a, i: int, j: int, n: int, ylabel: str, xlabel: str) -> None:
     """Small-print labels of the example-run cell in row ``i`` (of ``n``), column ``j``."""
-    a.set_ylabel(ylabel, fontsize=7)
-    a.tick_params(labelsize=7)
+    a.set_ylabel(ylabel, fontsize=8)
+    a.tick_params(labelsize=8)
     if i == n - 1:
         a.set_xlabel(xlabel)
     if i == 0 and j == 0:
-        a.legend(fontsize=6, loc="upper right")
+        a.legend(fontsize=8, loc="upper right")
 
 
 def _signals(e: ExampleRun):
@@ -109,11 +114,12 @@ def time_series(system: str, examples: Sequence[ExampleRun], ps: PSMap,
         sel = e.t_s <= e.t_s[0] + window_s
         for j, (meas, mod, name) in enumerate(_signals(e)):
             a = fig.add_subplot(gs[i + 1, j])
-            a.plot(e.t_s[sel], meas[sel] - meas.mean(), lw=0.8, label="measured")
-            a.plot(e.t_s[sel], mod[sel], lw=0.8, label="model (open loop)")
+            a.plot(e.t_s[sel], meas[sel] - meas.mean(), lw=0.8, color=MEASURED_COLOUR,
+                   label="measured")
+            a.plot(e.t_s[sel], mod[sel], lw=1.0, color=model_colour(system),
+                   label="model (open loop)")
             _label_cell(a, i, j, n, f"{i + 1}: {name} (rad)", "time (s)")
-            a.set_title(f"{e.speed_kmh:g} km/h, {e.cadence_rpm:.0f} rpm", fontsize=7)
-    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
+            a.set_title(f"{e.speed_kmh:g} km/h, {e.cadence_rpm:.0f} rpm", fontsize=8)
     _stamp(fig, synthetic_reason)
     return fig
 
@@ -129,13 +135,13 @@ def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
             f, am = spectral.spectrum(meas - meas.mean(), sample_rate_hz, "hann")
             _, amod = spectral.spectrum(mod - mod.mean(), sample_rate_hz, "hann")
             keep = f <= 6 * e.cadence_rpm / 60
-            a.semilogy(f[keep], am[keep], lw=0.8, label="measured")
-            a.semilogy(f[keep], np.clip(amod[keep], 1e-7, None), lw=0.8, label="model")
+            a.semilogy(f[keep], am[keep], lw=0.8, color=MEASURED_COLOUR, label="measured")
+            a.semilogy(f[keep], np.clip(amod[keep], 1e-7, None), lw=1.0,
+                       color=model_colour(system), label="model")
             for k in (1, 2, 3):
                 a.axvline(k * e.cadence_rpm / 60, color="grey", lw=0.5, ls=":")
             a.set_ylim(1e-6, None)
             _label_cell(a, i, j, n, f"{i + 1}: |{name}| (rad)", "frequency (Hz)")
-    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
 
@@ -145,14 +151,14 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
     """Fig 4.10: every run as a circle on the particular-solution map of its system; fill =
     measured amplitude, edge = model / measured ratio."""
     systems = list(maps)
-    fig, axes = plt.subplots(2, len(systems), figsize=(3.4 * len(systems), 6.0),
-                             squeeze=False, sharex=True, sharey=True)
+    fig, axes = plt.subplots(len(systems), 2, figsize=(7.0, 1.6 + 2.2 * len(systems)),
+                             squeeze=False, sharex=True, sharey=True, layout="constrained")
     norm = plt.Normalize(-3, -1)
     rnorm = plt.Normalize(-1, 1)
     for j, system in enumerate(systems):
         sub = per_run[per_run.system == system]
         for i, q in enumerate(("roll", "steer")):
-            ax = axes[i, j]
+            ax = axes[j, i]
             _contour(ax, maps[system], q)
             sc = ax.scatter(sub.speed_kmh / 3.6, sub.cadence_rpm * np.pi / 30,
                             c=np.log10(sub[f"{q}_measured_rad"]), cmap="magma", norm=norm,
@@ -161,30 +167,82 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
                                 sub[f"{q}_model_rad"] / sub[f"{q}_measured_rad"]))))
             ax.set_title(f"{system} {q}", fontsize=9)
             ax.set_xlabel("")
-            if j:
+            if i:
                 ax.set_ylabel("")
-    fig.supxlabel("forward speed v (m/s)", fontsize=9)
-    fig.colorbar(plt.cm.ScalarMappable(plt.Normalize(LEVELS[0], LEVELS[-1]), "viridis"),
-                 ax=axes, shrink=0.6, pad=0.01, label="map: log$_{10}$ model amplitude (rad)")
-    fig.colorbar(sc, ax=axes, label="fill: log$_{10}$ measured amplitude (rad)", shrink=0.6,
-                 pad=0.01)
-    fig.colorbar(plt.cm.ScalarMappable(rnorm, "coolwarm"), ax=axes, shrink=0.6, pad=0.01,
-                 label="edge: log$_{10}$(model / measured)")
+    for ax in axes[-1]:
+        ax.set_xlabel("forward speed v (m/s)")
+    for mappable, label in (
+            (plt.cm.ScalarMappable(plt.Normalize(LEVELS[0], LEVELS[-1]), "viridis"),
+             "map: log$_{10}$ model amplitude (rad)"),
+            (sc, "fill: log$_{10}$ measured amplitude (rad)"),
+            (plt.cm.ScalarMappable(rnorm, "coolwarm"), "edge: log$_{10}$(model / measured)")):
+        fig.colorbar(mappable, ax=axes, location="bottom", shrink=0.8, aspect=40, pad=0.01,
+                     label=label)
     _stamp(fig, synthetic_reason)
     return fig
 
 
 def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "") -> Figure:
     """Fig 4.11: relative difference model vs measurement of every run, per system."""
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.4), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(7.0, 3.6), sharey=True, layout="constrained")
     for q, ax in zip(("roll", "steer"), axes, strict=True):
         for system, sub in per_run.groupby("system", sort=False):
-            ax.plot(sub.speed_kmh, sub[f"{q}_rd_percent"], "o", label=system)
+            ax.plot(sub.speed_kmh, sub[f"{q}_rd_percent"], "o", label=system,
+                    color=model_colour(str(system)))
         ax.set_yscale("log")
         ax.set_xlabel("belt speed (km/h)")
         ax.set_title(f"{q}: RD model vs measurement")
     axes[0].set_ylabel("RD (%)")
-    axes[1].legend(fontsize=7)
-    fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
+    axes[1].legend(fontsize=8)
     _stamp(fig, synthetic_reason)
     return fig
+
+
+# --------------------------------------------------------------------------------------------
+# entry points of the figure registry: loaded files in, a Figure out
+# --------------------------------------------------------------------------------------------
+
+SYSTEMS = ("HS", "CF", "HR", "CR")
+
+
+def _reason(source: dict) -> str:
+    return "" if source["data_source"] == "figshare" else source["reason"]
+
+
+def _maps(model: dict) -> dict[str, PSMap]:
+    return {s: PSMap(model["speed_m_s"], model["omega_rad_s"], model[f"{s}_roll_amp_rad"],
+                     model[f"{s}_steer_amp_rad"]) for s in SYSTEMS if f"{s}_roll_amp_rad" in model}
+
+
+def _examples(per_run: pd.DataFrame, series: dict, model: dict, system: str) -> list[ExampleRun]:
+    out = []
+    for k, rid in enumerate(np.atleast_1d(model[f"{system}_run_ids"])):
+        row = per_run[per_run.run_id == rid].iloc[0]
+        out.append(ExampleRun(int(rid), float(row.speed_kmh), float(row.cadence_rpm),
+                              series[f"{rid}_t_s"], series[f"{rid}_roll_rad"],
+                              series[f"{rid}_steer_rad"], model[f"{system}_{k}_roll_rad"],
+                              model[f"{system}_{k}_steer_rad"]))
+    return out
+
+
+def draw_time_series(per_run, series, source, model, system: str) -> Figure:
+    """Figs 4.2-4.5 from the registry's files."""
+    return time_series(system, _examples(per_run, series, model, system), _maps(model)[system],
+                       _reason(source))
+
+
+def draw_frequency_domain(per_run, series, source, model, system: str) -> Figure:
+    """Figs 4.6-4.9 from the registry's files."""
+    ex = _examples(per_run, series, model, system)
+    fs = float(1.0 / np.median(np.diff(ex[0].t_s)))
+    return frequency_domain(system, ex, _maps(model)[system], fs, _reason(source))
+
+
+def draw_fig_4_10(per_run, series, source, model) -> Figure:
+    """Fig 4.10 from the registry's files."""
+    return fig_4_10(per_run, _maps(model), _reason(source))
+
+
+def draw_fig_4_11(per_run, series, source, model) -> Figure:
+    """Fig 4.11 from the registry's files."""
+    return fig_4_11(per_run, _reason(source))

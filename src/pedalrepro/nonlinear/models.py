@@ -26,9 +26,13 @@ def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
 
 
 def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
-    """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
-    leg_params, spec, mean = bodies.leg_bodies(name, cadence_rad_s)
-    return NonlinearModel(bodies.without_legs(name, mean), model_options(name, legs=True),
+    """The NP model at one cadence: legs and cranks as bodies with prescribed motion.
+
+    Body B is the NT body without exactly the six bodies frozen at crank angle 0
+    (:func:`.bodies.without_legs`); the moving ones are added.
+    """
+    leg_params, spec, _ = bodies.leg_bodies(name, cadence_rad_s)
+    return NonlinearModel(bodies.without_legs(name), model_options(name, legs=True),
                           leg_params, spec, linear_correction=substitute.linear_correction(name),
                           arm_parameters=bodies.model_bodies(name)[1],
                           steer_limit_rad=bodies.steer_limit_rad(name))
@@ -37,9 +41,9 @@ def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
 def original_seat_model(model: str = "CF") -> params.LinearModel:
     """Fig E.1: CF with the original 0.77 m seat tube + post (Sec 3.2.1, Appendix E).
 
-    The project's own CF linearised (legs fixed at crank angle 0, as the NT model) with the rider
-    without arms, shoulders included, *not* lowered: the hands stay on the handlebar, so the arm
-    loop closes with a more extended elbow than at the 0.72 m seat.
+    The project's calibrated CF linearised (legs fixed at crank angle 0, as the NT model) with
+    the rider without arms, shoulders included, *not* lowered: the hands stay on the handlebar,
+    so the arm loop closes with a more extended elbow than at the 0.72 m seat.
     """
     if model == "benchmark" or model_spec(model)["legs"] != "city":
         raise ValueError(f"{model}: the seat was lowered on the city bicycle only (Sec 2.1.1)")

@@ -6,6 +6,8 @@ assumptions of their parameter sets (Sec 2.1.1, 3.1.1.3); the symbolic model opt
 
 from __future__ import annotations
 
+from functools import cache
+
 from .. import params, paths
 from . import model as symbolic
 
@@ -15,9 +17,17 @@ from . import model as symbolic
 NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
 
 
+@cache
 def settings() -> dict:
-    """``data/parameters/nonlinear_models.yaml``."""
+    """``data/parameters/nonlinear_models.yaml`` (read once; do not modify)."""
     return params.read_yaml(paths.PARAMETERS / "nonlinear_models.yaml")
+
+
+@cache
+def thesis_inputs() -> dict:
+    """``data/parameters/thesis_inputs.yaml``: the thesis's bicycle, wheel and rider inputs and
+    the calibration settings (read once; do not modify)."""
+    return params.read_yaml(paths.PARAMETERS / "thesis_inputs.yaml")
 
 
 def model_spec(model: str) -> dict:

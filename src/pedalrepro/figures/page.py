@@ -1,0 +1,87 @@
+"""Figures drawn for the page: the project's style, the legibility check and the writer.
+
+A leaf module (matplotlib and :mod:`pedalrepro.paths` only) so that the figure registry and the
+drawing modules can use it without importing the :mod:`pedalrepro.figures` package.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+
+import matplotlib
+
+from .. import paths
+
+#: Read through ``paths.STYLE`` (see pedalrepro.dependencies).
+DATA_FILES: tuple[str, ...] = ("src/pedalrepro/pedalrepro.mplstyle",)
+
+
+@contextmanager
+def style():
+    """Context manager applying the project's matplotlib style (``pedalrepro.mplstyle``)."""
+    import matplotlib.style
+
+    with matplotlib.style.context(str(paths.STYLE)):
+        yield
+
+
+#: Widest figure (inches): the book's content width, 672 px at 96 px per inch.
+MAX_WIDTH_IN = 7.0
+#: Smallest text (points at the figure's own size, which is its display size in the book).
+MIN_FONT_PT = 8.0
+
+
+def check_legible(fig: matplotlib.figure.Figure, name: str = "figure") -> None:
+    """Raise ValueError if ``fig`` is wider than :data:`MAX_WIDTH_IN` or shows text smaller
+    than :data:`MIN_FONT_PT` (issue 13: figures drawn for the page; split dense figures into
+    rows instead)."""
+    from matplotlib.text import Text
+
+    width = float(fig.get_size_inches()[0])
+    if width > MAX_WIDTH_IN + 1e-9:
+        raise ValueError(f"{name}: {width:.2f} in wide, more than the book's {MAX_WIDTH_IN} in "
+                         "content width (draw it narrower, in rows)")
+    small = sorted({(round(t.get_fontsize(), 1), t.get_text()[:30]) for t in fig.findobj(Text)
+                    if t.get_visible() and t.get_text().strip()
+                    and t.get_fontsize() < MIN_FONT_PT - 1e-9})
+    if small:
+        raise ValueError(f"{name}: text below {MIN_FONT_PT} pt: {small[:5]}")
+
+
+def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
+    """Save ``fig`` to ``path`` (PNG) and its vector copy beside it (same stem, ``.pdf``), in
+    the project's style, creating the folder; close the figure. Checks :func:`check_legible`
+    first, and that the PNG (bbox tight) is not wider than the content width plus 5 %."""
+    import struct
+
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    check_legible(fig, path.stem)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with style():
+        fig.savefig(path)
+        fig.savefig(path.with_suffix(".pdf"))
+        dpi = float(matplotlib.rcParams["savefig.dpi"])
+    plt.close(fig)
+    width_px = struct.unpack(">I", path.read_bytes()[16:20])[0]
+    if width_px > 1.05 * MAX_WIDTH_IN * dpi:
+        raise ValueError(f"{path}: {width_px} px wide at {dpi:g} dpi, more than "
+                         f"{MAX_WIDTH_IN} in (something sticks out of the figure)")
+    return path
+
+
+def synthetic_stamp(fig: matplotlib.figure.Figure, reason: str = "") -> None:
+    """Write a visible SYNTHETIC label on a figure built from the synthetic stand-in data."""
+    import textwrap
+
+    text = "SYNTHETIC DATA (stand-in for the treadmill data)"
+    if reason:
+        text += f": {reason}"
+    text = textwrap.fill(text, 80)  # inside the figure's width at 9 pt bold
+    if fig.get_suptitle():
+        fig.text(0.5, 0.995, text, ha="center", va="top", color="crimson", fontsize=9,
+                 fontweight="bold")
+    else:  # a suptitle: constrained layout keeps room for it
+        fig.suptitle(text, color="crimson", fontsize=9, fontweight="bold")

@@ -1,0 +1,184 @@
+"""One figure convention (issue 10 part 4) and figures drawn for the page (issue 13 parts 1-3):
+the registry covers every thesis figure id, the results layout is defined once, figures are at
+most the book's content width with text of at least 8 pt, saved as PNG + PDF, and the maps use
+the thesis's axes, RD levels and stable-range lines."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from pedalrepro import figures, paths, report  # noqa: E402
+from pedalrepro.figures import linear as figlin  # noqa: E402
+from pedalrepro.figures import nonlinear as fig_nl  # noqa: E402
+from pedalrepro.figures import palette, registry  # noqa: E402
+
+#: Registered figures that are not thesis ids (checks shown beside a thesis figure).
+EXTRA = {"nonlinear_linearisation_vs_appendix_b"}
+
+
+def test_registry_covers_every_thesis_figure_once():
+    thesis = set(report.figure_ids()["id"])
+    figs = {i for i in thesis if i.startswith("fig_")}
+    assert figs == set(registry.FIGURES) - EXTRA
+    assert set(registry.FIGURES) - thesis == EXTRA
+    # every id in exactly one part and one job group
+    assert {s.part for s in registry.FIGURES.values()} == set(registry.PARTS)
+    assert sum(len(registry.ids(group=g)) for g in registry.groups()) == len(registry.FIGURES)
+
+
+def test_every_input_is_under_the_results_layout():
+    dirs = set(paths.LAYOUT.values())
+    for fid, spec in registry.FIGURES.items():
+        for rel in spec.inputs.values():
+            assert rel.split("/")[0] in dirs, (fid, rel)
+        spec.callable()  # the drawing function exists
+
+
+def test_results_layout_is_defined_once():
+    assert paths.table("table_d_1", root="R") == Path("R/tables/table_d_1.csv")
+    assert paths.figure("fig_2_3", root="R", fmt="pdf") == Path("R/figures/fig_2_3.pdf")
+    assert paths.interm("eigen/HS.npz", root="R") == Path("R/intermediate/eigen/HS.npz")
+    assert paths.log("book", root="R") == Path("R/logs/book.log")
+    assert paths.benchmark("linear_ps", root="R") == Path("R/benchmarks/linear_ps.tsv")
+    with pytest.raises(ValueError, match="figure format"):
+        paths.figure("fig_2_3", fmt="jpg")
+    common = (paths.ROOT / "rules" / "common.smk").read_text()
+    for kind in paths.LAYOUT.values():  # the Snakemake helpers call pedalrepro.paths
+        assert "{R}/" + kind + "/" not in common
+    for helper in ("table", "figure", "interm", "log", "benchmark"):
+        assert f"_paths.{helper}(" in common
+
+
+def test_save_refuses_small_text_and_wide_figures(tmp_path):
+    fig, ax = plt.subplots(figsize=(7.0, 3.0))
+    ax.set_title("fine", fontsize=8)
+    ax.text(0.5, 0.5, "too small", fontsize=7)
+    with pytest.raises(ValueError, match="below 8.0 pt"):
+        figures.save(fig, tmp_path / "a.png")
+    fig, _ = plt.subplots(figsize=(9.0, 3.0))
+    with pytest.raises(ValueError, match="9.00 in wide"):
+        figures.save(fig, tmp_path / "b.png")
+
+
+def test_save_writes_png_and_pdf_at_the_content_width(tmp_path):
+    with figures.style():
+        fig, ax = plt.subplots(figsize=(7.0, 3.0), layout="constrained")
+        ax.plot([0, 1], [0, 1])
+        ax.set_xlabel("x")
+    out = figures.save(fig, tmp_path / "c.png")
+    width = struct.unpack(">I", out.read_bytes()[16:20])[0]
+    with figures.style():
+        dpi = matplotlib.rcParams["savefig.dpi"]
+    # bbox tight trims the margin (pad 0.04 in): 90-102 % of 7 in at the style's dpi
+    assert 0.9 * 7 * dpi <= width <= 1.02 * 7 * dpi
+    # displayed at the 672 px content width, 8 pt text is 8 pt (10.7 px) or larger
+    assert 672 / width * 8 * dpi / 72 >= 8 * 96 / 72 - 1e-9
+    assert out.with_suffix(".pdf").read_bytes()[:5] == b"%PDF-"
+
+
+def test_book_html_links_full_size_png_and_pdf():
+    html = figures.figure_html("fig_3_10", b"\x89PNG", caption="c", link=True)
+    assert '<a class="pedalrepro-full-size" href="../figures/fig_3_10.png"' in html
+    assert 'href="../figures/fig_3_10.pdf"' in html
+    assert "href" not in figures.figure_html("fig_3_10", b"\x89PNG", caption="c")
+
+
+def _rd_maps():
+    v, w = np.arange(0.0, 10.1, 2.0), np.arange(0.0, 12.1, 4.0)
+    return v, w, {"speed_m_s": v, "omega_rad_s": w, "models": np.array(["HR"]),
+                  "HR_roll_ps_np": np.full((v.size, w.size), 2.0),
+                  "HR_steer_ps_np": np.full((v.size, w.size), 30.0),
+                  "HR_stable": (v > 3) & (v < 7)}
+
+
+def test_fig_3_34_speed_on_x_cadence_on_y_levels_and_lines():
+    v, w, maps = _rd_maps()
+    eig = {"HR": {"speed_m_s": np.array([0.0, 10.0]),
+                  "weave_frequency_rad_s": np.array([5.0, 7.0])}}
+    with figures.style():
+        fig = fig_nl.fig_3_34(maps, eig)
+    ax = fig.axes[0]
+    assert ax.get_xlim() == (0.0, 10.0) and ax.get_ylim() == (0.0, 12.0)
+    assert "speed" in fig.axes[0].get_xlabel() or "speed" in fig.axes[1].get_xlabel()
+    # stable speeds 4 and 6 on a 2 m/s grid: lines half a step outside, at 3 and 7 m/s
+    vlines = sorted(ln.get_xdata()[0] for ln in ax.get_lines() if len(set(ln.get_xdata())) == 1)
+    assert vlines == [3.0, 7.0]
+    weave = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    np.testing.assert_allclose(weave[0].get_ydata(), [5.0, 7.0])
+    # roll RD 2 % falls in the 1-2.5 % band, steer 30 % in 25-100 %
+    for axis, band in ((ax, (1.0, 2.5)), (fig.axes[1], (25.0, 100.0))):
+        cs = axis.collections[0]
+        filled = [i for i, p in enumerate(cs.get_paths()) if len(p.vertices)]
+        assert [(cs.levels[i], cs.levels[i + 1]) for i in filled] == [band]
+    cbar = fig.axes[-1]
+    ticks = [float(t.get_text().replace("\u2212", "-")) for t in cbar.get_yticklabels()]
+    assert ticks == list(palette.RD_TICKS_PERCENT)
+    figures.check_legible(fig, "fig_3_34")
+
+
+def test_g_7_has_a_cadence_rpm_axis():
+    v, w = np.linspace(0, 10, 6), np.linspace(0, 4 * np.pi, 5)
+    amp = np.outer(v + 1, w + 1) * 1e-3
+    ps = {"speed_m_s": v, "omega_rad_s": w, "roll_amp_rad": amp, "steer_amp_rad": amp,
+          "cam_roll_rad": 0.01, "cam_steer_rad": 0.01}
+    eig = {"speed_m_s": v, "weave_frequency_rad_s": np.full(v.size, 3.0),
+           "stable_ranges_m_s": np.array([[4.0, 6.0]])}
+    with figures.style():
+        fig = figlin.fig_benchmark_ps(ps, eig)
+    children = [c for a in fig.axes for c in a.child_axes]
+    rpm = [c for c in children if c.get_ylabel() == "cadence (rpm)"]
+    kmh = [c for c in children if c.get_xlabel() == "speed (km/h)"]
+    assert len(rpm) == 2 and len(kmh) == 2
+    sec = rpm[0]
+    # the secondary axis maps 2 pi rad/s to 60 rpm
+    assert sec._functions[0](2 * np.pi) == pytest.approx(60.0)
+    figures.check_legible(fig, "fig_g_7")
+
+
+def test_every_chapter_uses_one_model_colour():
+    import pandas as pd
+
+    from pedalrepro.figures import validation as fv
+
+    per_run = pd.DataFrame({"system": ["HS", "CR"], "speed_kmh": [10.0, 20.0],
+                            "roll_rd_percent": [5.0, 6.0], "steer_rd_percent": [7.0, 8.0]})
+    with figures.style():
+        fig = fv.fig_4_11(per_run)
+    colours = {ln.get_label(): ln.get_color() for ln in fig.axes[0].get_lines()}
+    assert colours == {"HS": palette.MODEL_COLOURS["HS"], "CR": palette.MODEL_COLOURS["CR"]}
+    sections = {"gear_ratios": np.array([1.0]), "HS_1_speed_m_s": np.array([1.0, 2.0]),
+                "HS_1_roll_rad": np.array([0.01, 0.02]), "HS_1_steer_rad": np.array([0.0, 0.01])}
+    with figures.style():
+        fig = figlin.fig_gear_sections(sections, ["HS"])
+    assert {ln.get_color() for ln in fig.axes[0].get_lines()} == {palette.MODEL_COLOURS["HS"]}
+
+
+def test_figure_data_gear_sections_follow_the_gear_line():
+    """Fig 3.36 data: along GR 2 the cadence is v / (GR r_wheel) (Sec 3.1.3.2), and the drawn
+    amplitude is the PS amplitude of the cadence harmonic there."""
+    from pedalrepro import figdata, gears, linear, response
+
+    v = np.array([2.0, 4.0, 6.0])
+    d = figdata.gear_sections(["HS"], v, [2.0], 12.0, (1, 3, 5))
+    r_wheel = gears.wheel_radius_m(linear.bicycle_of("HS"))
+    w = v / (2.0 * r_wheel)
+    np.testing.assert_allclose(d["HS_2_speed_m_s"], v[w <= 12.0])
+    roll, _ = response.particular_solution(linear.linear_model("HS"), v[1], w[1],
+                                           response.forcing("HS", harmonics=(1, 3, 5)))
+    assert d["HS_2_roll_rad"][1] == pytest.approx(abs(np.ravel(roll)[0]), rel=1e-12)
+
+
+def test_figure_data_names_a_missing_config_key(tmp_path):
+    from pedalrepro import figdata
+
+    with pytest.raises(KeyError, match="linear.ps_speed_step_m_s"):
+        figdata.write_linear({"gear_grid": str(tmp_path / "g.npz")}, {"harmonics": [1]})
