@@ -374,20 +374,22 @@ def plot(own: OwnBicycle, rmap: ResonanceMap, values: Mapping[str, Any],
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    fig, axes = plt.subplots(2, 1, figsize=(7, 6.4), sharex=True)  # page width, >= 8 pt text
     v, w = rmap.speed_m_s, rmap.omega_rad_s
     ev, ew = gears.normal_cycling_ellipse(normal_speed_kmh, normal_cadence_rpm)
     w_line = np.linspace(0, w.max(), 50)
     for ax, coord in zip(axes, ("roll", "steer"), strict=True):
         amp = getattr(rmap, f"{coord}_amp_rad")
         cs = ax.contourf(v, w, np.log10(np.maximum(amp, 1e-6)).T, levels=20, cmap="viridis")
-        fig.colorbar(cs, ax=ax, label=f"log10 {coord} amplitude (rad)")
+        cb = fig.colorbar(cs, ax=ax)
+        cb.set_label(f"log10 {coord} amplitude (rad)", fontsize=9)
+        cb.ax.tick_params(labelsize=8)
         for gr in gear_ratios:
             ax.plot(gears.speed_m_s(gr, w_line, own.wheel_radius_m), w_line, "w--", lw=0.8)
             v_end = float(gears.speed_m_s(gr, w.max(), own.wheel_radius_m))
             at = (v_end, w.max()) if v_end <= v.max() else \
                 (v.max(), float(gears.cadence_rad_s(gr, v.max(), own.wheel_radius_m)))
-            ax.annotate(f"GR {gr:g}", at, color="w", fontsize=7, ha="right", va="top")
+            ax.annotate(f"GR {gr:g}", at, color="w", fontsize=8, ha="right", va="top")
         ax.plot(ev, ew, "w-", lw=1.2, label="normal cycling")
         ridge = rmap.ridge[coord]
         rows = np.nonzero(ridge >= 0)[0]
@@ -397,10 +399,11 @@ def plot(own: OwnBicycle, rmap: ResonanceMap, values: Mapping[str, Any],
                 ax.axvline(values[key], color=c, lw=0.8, label=key.split("_")[0])
         ax.set_xlim(v.min(), v.max())
         ax.set_ylim(w.min(), w.max())
-        ax.set_xlabel("forward speed v (m/s)")
+        ax.set_ylabel("cadence (rad/s)", fontsize=9)
         ax.set_title(f"{own.name} + {own.rider}: {coord}", fontsize=9)
-    axes[0].set_ylabel("cadence (rad/s)")
-    axes[0].legend(fontsize=6, loc="lower right")
+        ax.tick_params(labelsize=8)
+    axes[1].set_xlabel("forward speed v (m/s)", fontsize=9)
+    axes[0].legend(fontsize=8, loc="lower right")
     fig.tight_layout()
     return fig
 
