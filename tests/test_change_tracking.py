@@ -364,7 +364,8 @@ CHANGES = [
      SECTION2 | MOCAP | {"linear_eigen", "linear_ps", "linear_table_4_1", "nonlinear_codegen",
                          "nonlinear_codegen_variant", "nonlinear_linearisation"}),
     ("linear", "linear.eigen_speed_step_m_s", 0.04,
-     {"linear_eigen", "linear_report", "nonlinear_linearisation", "linear_figure_data"},
+     {"linear_eigen", "linear_report", "nonlinear_linearisation", "linear_figure_data",
+      "own_bicycle_resonance"},
      SECTION2 | MOCAP | {"linear_ps", "linear_time_la", "linear_time_ln", "linear_rd",
                          "nonlinear_time_chunk", "nonlinear_time"}),
     ("linear", "linear.rtol", 1e-4, {"linear_time_ln"},
@@ -455,9 +456,11 @@ def _rules(script_names):
 
 @pytest.mark.parametrize("rel, expected", [
     # hand-checked: BicycleParameters' files are read by nonlinear/parameters.py and arms.py,
-    # which the linearisation and the NT/NP sweeps import, and nothing else
+    # which the linearisation and the NT/NP sweeps import, and by own_bicycle.py (Jason rides
+    # the "Your own bicycle" example), and nothing else
     ("data/parameters/bicycleparameters/riders/Jason/RawData/JasonYeadonMeas.txt",
-     {"nonlinear_linearisation", "nonlinear_time_chunk", "nonlinear_time"}),
+     {"nonlinear_linearisation", "nonlinear_time_chunk", "nonlinear_time",
+      "own_bicycle_resonance"}),
     # the C driver: every rule compiling or loading the non-linear model
     ("src/pedalrepro/nonlinear/rhs_driver.c",
      {"nonlinear_codegen_variant", "nonlinear_linearisation", "nonlinear_time_chunk",

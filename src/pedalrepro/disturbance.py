@@ -68,7 +68,9 @@ def steer_factor(bicycle: str) -> float:
 
 
 def torque_harmonics(bicycle: str, com: str = "O", harmonics=(1, 3, 5), *,
-                     samples_per_revolution: int = 3600) -> TorqueHarmonics:
+                     samples_per_revolution: int = 3600,
+                     geometry: legs.LegGeometry | None = None,
+                     steer_geometry: dict[str, float] | None = None) -> TorqueHarmonics:
     """Generalised pedalling roll and steer torque harmonics of Eq 3.14.
 
     ``f_L = sum_n m_L l_hh (n w)^2 [ |Z_L(n w)| cos(n w t + angle Z);
@@ -88,6 +90,12 @@ def torque_harmonics(bicycle: str, com: str = "O", harmonics=(1, 3, 5), *,
     harmonics
         Multiples of the cadence; Eq 3.14 uses the odd ones (even multiples cancel between the
         legs, Sec 2.2.2), but any ``n >= 1`` is accepted (an even ``n`` gives the one-leg value).
+    geometry
+        Explicit leg geometry (any bicycle and rider, e.g. ``pedalrepro.own_bicycle``); replaces
+        the ``legs.yaml`` geometry of ``bicycle`` (``com`` is then ignored).
+    steer_geometry
+        Explicit ``w``, ``c``, ``lam`` for the steer factor of Eq 2.15; replaces
+        :func:`pedalrepro.params.steer_geometry` of ``bicycle``.
 
     Returns
     -------
@@ -100,11 +108,16 @@ def torque_harmonics(bicycle: str, com: str = "O", harmonics=(1, 3, 5), *,
     >>> h = torque_harmonics("hybrid")
     >>> roll, steer = h.evaluate([0.0, 0.25], 2 * np.pi)   # N m at 60 rpm
     """
-    geometry = legs.leg_geometry(bicycle, com)
+    if geometry is None:
+        geometry = legs.leg_geometry(bicycle, com)
+    if steer_geometry is None:
+        factor = steer_factor(bicycle)
+    else:
+        factor = steer_geometry["c"] * np.cos(steer_geometry["lam"]) / steer_geometry["w"]
     n = np.asarray(harmonics, dtype=int)
     x_l, z_l = legs.com_fourier(geometry, n, samples_per_revolution)
     scale = geometry.leg_mass_kg * geometry.hip_width_m
-    return TorqueHarmonics(n=n, roll=scale * z_l, steer=-steer_factor(bicycle) * scale * x_l,
+    return TorqueHarmonics(n=n, roll=scale * z_l, steer=-factor * scale * x_l,
                            bicycle=bicycle, com=com)
 
 
