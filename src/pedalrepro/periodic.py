@@ -215,6 +215,7 @@ class Orbit:
     hold_torque_mean_nm: float
     n_rhs: int
     monodromy: np.ndarray = field(repr=False, default_factory=lambda: np.zeros((4, 4)))
+    failure: str = ""
 
     @property
     def stable(self) -> bool:
@@ -223,8 +224,8 @@ class Orbit:
 
     def summary(self) -> dict:
         """JSON-ready summary (the ``pedalrepro periodic`` output)."""
-        out = {k: v for k, v in asdict(self).items() if k not in ("nodes", "monodromy",
-                                                                    "floquet_multipliers")}
+        out = {k: v for k, v in asdict(self).items() if k not in (
+            "nodes", "monodromy", "floquet_multipliers", "failure")}
         out["cadence_rpm"] = self.omega_rad_s * 60.0 / (2.0 * np.pi)
         out["floquet_multipliers_abs"] = [float(x) for x in np.abs(self.floquet_multipliers)]
         out["floquet_multipliers_angle_rad"] = [float(x) for x in
@@ -472,12 +473,13 @@ class OrbitSolver:
         atol = self.rtol * np.array([scale, 1.0, scale, scale, scale])
         best_res, best_nodes, best_ev = np.inf, nodes, None
         jac = None
-        total, it, ok, prev_res = 0, 0, False, np.inf
+        total, it, ok, prev_res, why = 0, 0, False, np.inf, ""
         for it in range(max_iter + 1):
             need = jac is None or best_res > switch * scale
             try:
                 ev = self.residual(nodes, variational=need, atol=atol)
-            except (FloatingPointError, ZeroDivisionError):
+            except (FloatingPointError, ZeroDivisionError) as exc:
+                why = str(exc)
                 break
             total += ev["n_rhs"]
             if need:
@@ -499,9 +501,13 @@ class OrbitSolver:
                 break
             nodes = nodes + step
         if best_ev is None or jac is None:
-            return self._failed(best_nodes, m, it, total)
-        ev = dict(best_ev, H=jac["H"])
-        return self._orbit(best_nodes, ev, best_res, ok and best_res <= 1e-9, it, total)
+            out = self._failed(best_nodes, m, it, total)
+        else:
+            out = self._orbit(best_nodes, dict(best_ev, H=jac["H"]), best_res,
+                              ok and best_res <= 1e-9, it, total)
+        if not out.converged:
+            out.failure = why or f"{it} Newton iterations"
+        return out
 
     def _orbit(self, nodes, ev, res, ok, it, total) -> Orbit:
         c = 2.0 / self.shoot_s * (ev["quad"][[0, 2]] - 1j * ev["quad"][[1, 3]])
@@ -545,8 +551,9 @@ def orbit(model: str, method: str, speed_m_s: float, cadence_rad_s: float, **kw)
     if not out.converged:
         raise ConvergenceError(
             f"Newton did not converge for {model} {method} at {speed_m_s} m/s, {rpm:g} rpm: "
-            f"periodicity residual reached {out.periodicity_residual:.3g} after "
-            f"{out.iterations} iterations", out.periodicity_residual)
+            f"periodicity residual reached {out.periodicity_residual:.3g} ({out.failure}; "
+            f"{out.segments} shooting segment(s): more segments help where the bicycle is "
+            f"very unstable)", out.periodicity_residual)
     return out
 
 
@@ -700,7 +707,8 @@ def _crossings(values: np.ndarray, mus: np.ndarray) -> list[dict]:
 def continue_branch(model: str, method: str, parameter: str, start: float, stop: float,
                     fixed: float, *, ds: float = 0.1, ds_min: float = 1e-3, ds_max: float = 0.5,
                     max_points: int = 400, torque_scale: float = 1.0, rtol: float = 1e-9,
-                    max_growth: float = 100.0, tol: float = 1e-11) -> Branch:
+                    max_growth: float = 100.0, tol: float = 1e-11,
+                    refine: float | None = 1e-4) -> Branch:
     """Follow a branch of periodic orbits from ``start`` to ``stop`` in ``parameter``.
 
     Secant predictor and pseudo-arclength corrector (Doedel et al. 2003; Keller's method):
@@ -715,6 +723,9 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
     parameter
         ``"speed_m_s"`` (``fixed``: the cadence, rad/s) or ``"omega_rad_s"`` (NT only;
         ``fixed``: the speed, m/s).
+    refine
+        Locate each multiplier crossing by bisection to this parameter tolerance (``None``:
+        linear interpolation of log |mu| between branch points only).
     """
     if parameter not in ("speed_m_s", "omega_rad_s"):
         raise ValueError(f"unknown continuation parameter {parameter!r}")
@@ -814,7 +825,75 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
     values = np.array([p for p, _ in pts])
     orbs = [o for _, o in pts]
     mus = np.array([o.floquet_multipliers for o in orbs])
+    crossings = _crossings(values, mus)
+    if refine:
+        for c in crossings:
+            c["value"] = _refine_crossing(solver_at, parameter, fixed, pts, c, refine)
     return Branch(model, method, parameter, float(fixed), values,
                   np.array([o.roll_amplitude_rad for o in orbs]),
                   np.array([o.steer_amplitude_rad for o in orbs]), mus,
-                  np.array([o.periodicity_residual for o in orbs]), _crossings(values, mus))
+                  np.array([o.periodicity_residual for o in orbs]), crossings)
+
+
+def _refine_crossing(solver_at, parameter, fixed, pts, crossing, tol) -> float:
+    """Bisection on the parameter between the two branch points that bracket a crossing
+    (where the count of multipliers outside the unit circle changes), to ``tol``."""
+    values = [p for p, _ in pts]
+    n_out = [int(np.sum(np.abs(o.floquet_multipliers) > 1.0)) for _, o in pts]
+    i = next(k for k in range(len(pts) - 1) if n_out[k] != n_out[k + 1]
+             and min(values[k], values[k + 1]) <= crossing["value"]
+             <= max(values[k], values[k + 1]))
+    (a, oa), (b, _) = pts[i], pts[i + 1]
+    na = n_out[i]
+    while abs(b - a) > tol:
+        mid = 0.5 * (a + b)
+        s = solver_at(mid)
+        o = s.solve(fixed if parameter == "omega_rad_s" else mid, start=oa.nodes)
+        if not o.converged:
+            break
+        if int(np.sum(np.abs(o.floquet_multipliers) > 1.0)) == na:
+            a, oa = mid, o
+        else:
+            b = mid
+    return 0.5 * (a + b)
+
+
+# ---------------------------------------------------------------------------------------------
+# Command line: pedalrepro periodic
+# ---------------------------------------------------------------------------------------------
+
+def add_cli(subparsers) -> None:
+    """The ``periodic`` sub-command (:mod:`pedalrepro.cli`)."""
+    p = subparsers.add_parser(
+        "periodic", help="periodic pedalling response of a non-linear model (shooting)",
+        description="Periodic orbit of a non-linear model under pedalling (speed held by a "
+                    "rear-hub torque): cadence-harmonic amplitudes and phases, Floquet "
+                    "multipliers, periodicity residual. Prints one JSON object.")
+    p.add_argument("--model", required=True, help="HS, CF, HR or CR")
+    p.add_argument("--speed-m-s", type=float, required=True, dest="speed_m_s",
+                   help=f"forward speed, m/s, in [{SPEED_RANGE_M_S[0]}, {SPEED_RANGE_M_S[1]}]")
+    p.add_argument("--cadence-rpm", type=float, required=True, dest="cadence_rpm",
+                   help=f"cadence, rpm, in [{CADENCE_RANGE_RPM[0]}, {CADENCE_RANGE_RPM[1]}]")
+    p.add_argument("--method", default="NT", help="NT (torques, default) or NP (moving legs)")
+    p.add_argument("--segments", type=int, default=None,
+                   help="shooting segments (1: single shooting; default: from the instability)")
+    p.add_argument("--torque-scale", type=float, default=1.0, dest="torque_scale",
+                   help="factor on the NT torques (default 1)")
+    p.set_defaults(func=_cli)
+
+
+def _cli(args) -> int:
+    import json
+    import sys
+
+    if args.segments is not None and not 1 <= args.segments <= 256:
+        raise ValueError(f"--segments must be in [1, 256], got {args.segments}")
+    try:
+        orb = orbit(args.model, args.method, args.speed_m_s,
+                    args.cadence_rpm * 2.0 * np.pi / 60.0, segments=args.segments,
+                    torque_scale=args.torque_scale)
+    except ConvergenceError as exc:
+        print(f"pedalrepro periodic: error: {exc}", file=sys.stderr)
+        return 3
+    print(json.dumps(orb.summary()))
+    return 0
