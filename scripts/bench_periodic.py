@@ -1,0 +1,88 @@
+"""Speed of the periodic orbits (pedalrepro.periodic) against the NT/NP simulation sweeps.
+
+    python scripts/bench_periodic.py [--models HR] [--methods NT NP] [--stride 1]
+                                     [--results results]
+
+Measures on this machine (nothing is written; the numbers are printed):
+1. ms per orbit, median over the thesis time grid (config ``linear.time_*``; every
+   ``--stride``-th speed and cadence) for each of ``--methods`` and ``--models`` (model set-up
+   and the compiled driver's build excluded; NP includes building its leg motion per cadence);
+2. the full orbit map time of those models and methods, extrapolated to the four models of
+   ``nonlinear.models`` when fewer are measured;
+3. side by side, the job time of today's NT + NP sweeps and of the periodic map jobs from
+   Snakemake's benchmark files (``<results>/benchmarks/nonlinear_time_*.tsv``,
+   ``periodic_map_thesis_*.tsv``), when a thesis-profile run left them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pedalrepro import config, periodic, response
+
+
+def job_seconds(folder: Path, pattern: str) -> tuple[float, int]:
+    """Sum of the ``s`` column of Snakemake benchmark files matching ``pattern``."""
+    total, n = 0.0, 0
+    for f in sorted(folder.glob(pattern)):
+        with f.open() as fh:
+            rows = list(csv.DictReader(fh, delimiter="\t"))
+        if rows:
+            total += float(rows[0]["s"])
+            n += 1
+    return total, n
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--models", nargs="+", default=["HR"])
+    ap.add_argument("--methods", nargs="+", default=["NT", "NP"])
+    ap.add_argument("--stride", type=int, default=1)
+    ap.add_argument("--results", default="results")
+    args = ap.parse_args()
+    cfg = config.load()
+    v, w = response.time_grid(cfg)
+    v, w = v[::args.stride], w[::args.stride]
+    pc = cfg["periodic"]
+    print(f"thesis time grid{' (sub-grid)' if args.stride > 1 else ''}: {v.size} speeds x "
+          f"{w.size} cadences; rtol {pc['rtol']:g}, max_growth {pc['max_growth']:g}")
+    map_s: dict[str, float] = {}
+    for method in args.methods:
+        for model in args.models:
+            periodic.OrbitSolver(model, method, 2 * np.pi)  # load/compile outside the timings
+            start = time.perf_counter()
+            out = periodic.orbit_map(model, method, v, w, rtol=pc["rtol"],
+                                     max_growth=pc["max_growth"])
+            elapsed = time.perf_counter() - start
+            forced = np.broadcast_to(w[None, :] > 0, out["converged"].shape)
+            ms = 1e3 * out["orbit_time_s"][forced]
+            conv = out["converged"] & forced
+            map_s[f"{method}_{model}"] = elapsed
+            print(f"{method} {model}: {ms.size} orbits, {int(conv.sum())} converged, median "
+                  f"{np.median(ms):.1f} ms/orbit (p90 {np.percentile(ms, 90):.1f} ms), "
+                  f"max residual {np.nanmax(out['residual'][conv]):.1e}, mean Newton iterations "
+                  f"{np.mean(out['iterations'][forced]):.2f}, map {elapsed:.1f} s")
+    n_models = len(cfg["nonlinear"]["models"])
+    scale = n_models / len(args.models) * args.stride**2
+    total = sum(map_s.values()) * scale
+    print(f"full {'+'.join(args.methods)} orbit maps of {n_models} models on the thesis grid: "
+          f"{total:.0f} s (extrapolated x{scale:g})")
+    bench = Path(args.results) / "benchmarks"
+    sweep_s, n_sweep = job_seconds(bench, "nonlinear_time_N[TP]_*_*.tsv")
+    maps_s, n_maps = job_seconds(bench, "periodic_map_thesis_*.tsv")
+    if n_sweep:
+        print(f"today's NT + NP simulation sweeps: {sweep_s:.0f} s of job time ({n_sweep} "
+              f"benchmark files in {bench})")
+    else:
+        print(f"no NT/NP sweep benchmark files in {bench} (run the thesis profile)")
+    if n_maps:
+        print(f"periodic map jobs (thesis grid): {maps_s:.0f} s of job time ({n_maps} files)")
+
+
+if __name__ == "__main__":
+    main()
