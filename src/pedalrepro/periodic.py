@@ -1074,4 +1074,9 @@ def simulation_comparison(orbit_maps, time_maps, eigen_step_m_s: float = 0.01) -
             vals = rd[mask & np.isfinite(rd)]
             out.loc[out["model"] == model, f"1a_roll_median_{src}_pct"] = (
                 float(np.median(vals)) if vals.size else float("nan"))
+        rd = evaluation.relative_difference(orbit[(model, "NP")]["roll_amp_rad"],
+                                            orbit[(model, "NT")]["roll_amp_rad"])
+        vals = rd[(w[None, :] > 0) & np.isfinite(rd)]
+        out.loc[out["model"] == model, "1a_roll_median_orbit_all_speeds_pct"] = (
+            float(np.median(vals)) if vals.size else float("nan"))
     return out

@@ -59,7 +59,7 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
         ``time/<method>_<model>.npz`` arrays (same grid).
     """
     rows = [(m, c) for m in methods for c in ("roll", "steer")]
-    fig, axes = plt.subplots(len(rows), 4, figsize=(13, 2.6 * len(rows)), sharex=True,
+    fig, axes = plt.subplots(len(rows), 4, figsize=(13, 2.7 * len(rows)), sharex=True,
                              sharey=True, squeeze=False)
     amp_mesh = rd_mesh = None
     for i, (method, coord) in enumerate(rows):
@@ -86,9 +86,11 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
                                   "simulation (stable orbits)", "RD simulation vs orbit")):
             axes[i, j].set_title(f"{model} {method} {coord}: {name}", fontsize=8)
     _axes_labels(axes)
-    fig.colorbar(amp_mesh, ax=axes[:, :3], label="cadence amplitude (rad)", shrink=0.8)
+    fig.colorbar(amp_mesh, ax=axes[:, :3], label="cadence amplitude (rad)", shrink=0.6,
+                 location="bottom", aspect=40)
     if rd_mesh is not None:
-        fig.colorbar(rd_mesh, ax=axes[:, 3], label="RD (%)", shrink=0.8)
+        fig.colorbar(rd_mesh, ax=axes[:, 3], label="RD (%)", shrink=0.9, location="bottom",
+                     aspect=15)
     return fig
 
 
