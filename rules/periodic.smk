@@ -4,7 +4,15 @@
 # grid, method and model; one continuation job per model; a table job and a figure job.
 
 PERIODIC = config["periodic"]
-PERIODIC_CODE = NONLINEAR_CODE + pkg("periodic") + [f"{PKG}/periodic_driver.c"]
+
+
+# Code inputs of a rule script: code_inputs (rules/common.smk, change tracking) when available,
+# else the modules listed by hand (all periodic rules alike).
+periodic_code = code_inputs if "code_inputs" in globals() else (
+    lambda script: NONLINEAR_CODE + pkg("periodic", "evaluation", "figures/__init__",
+                                        "figures/periodic")
+    + [f"{PKG}/periodic_driver.c", f"{PKG}/pedalrepro.mplstyle"])
+
 PERIODIC_GRIDS = {
     "thesis": {
         "speed_step_m_s": config["linear"]["time_speed_step_m_s"],
@@ -33,9 +41,8 @@ PERIODIC_TABLES = [table("periodic_maps"), table("periodic_crossings"),
 
 rule periodic_map:
     input:
-        code=PERIODIC_CODE,
+        code=periodic_code("scripts/periodic_map.py"),
         codegen=interm("nonlinear/codegen.txt"),
-        parameters=NONLINEAR_PARAMETERS,
     output:
         interm("periodic/{grid}_{method}_{model}.npz"),
     wildcard_constraints:
@@ -60,9 +67,8 @@ rule periodic_map:
 
 rule periodic_branch:
     input:
-        code=PERIODIC_CODE,
+        code=periodic_code("scripts/periodic_branch.py"),
         codegen=interm("nonlinear/codegen.txt"),
-        parameters=NONLINEAR_PARAMETERS,
     output:
         interm("periodic/branch_{model}.npz"),
     wildcard_constraints:
@@ -89,7 +95,7 @@ rule periodic_branch:
 
 rule periodic_tables:
     input:
-        code=PERIODIC_CODE + pkg("evaluation"),
+        code=periodic_code("scripts/periodic_tables.py"),
         maps=PERIODIC_MAPS,
         branches=PERIODIC_BRANCHES,
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
@@ -108,8 +114,7 @@ rule periodic_tables:
 
 rule periodic_figures:
     input:
-        code=pkg("figures/__init__", "figures/periodic"),
-        style=f"{PKG}/pedalrepro.mplstyle",
+        code=periodic_code("scripts/periodic_figures.py"),
         maps=PERIODIC_MAPS,
         fine=PERIODIC_FINE,
         branches=PERIODIC_BRANCHES,

@@ -46,7 +46,9 @@ def main() -> None:
     ap.add_argument("--results", default="results")
     args = ap.parse_args()
     cfg = config.load()
-    v, w = response.time_grid(cfg)
+    lin = cfg["linear"]
+    v = response.grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"])
+    w = response.grid(lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"])
     v, w = v[::args.stride], w[::args.stride]
     pc = cfg["periodic"]
     print(f"thesis time grid{' (sub-grid)' if args.stride > 1 else ''}: {v.size} speeds x "
