@@ -4,7 +4,8 @@
                                      [--results results]
 
 Measures on this machine (nothing is written; the numbers are printed):
-1. ms per orbit, median over the thesis time grid (config ``linear.time_*``; every
+1. ms per orbit (wall and CPU time: the CPU time is the fair figure on a shared machine), median
+   over the thesis time grid (config ``linear.time_*``; every
    ``--stride``-th speed and cadence) for each of ``--methods`` and ``--models`` (model set-up
    and the compiled driver's build excluded; NP includes building its leg motion per cadence);
 2. the full orbit map time of those models and methods, extrapolated to the four models of
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import os
 import time
 from pathlib import Path
 
@@ -26,16 +28,18 @@ import numpy as np
 from pedalrepro import config, periodic, response
 
 
-def job_seconds(folder: Path, pattern: str) -> tuple[float, int]:
-    """Sum of the ``s`` column of Snakemake benchmark files matching ``pattern``."""
-    total, n = 0.0, 0
+def job_seconds(folder: Path, pattern: str) -> tuple[float, float, int]:
+    """Sums of the wall (``s``) and ``cpu_time`` columns of Snakemake benchmark files matching
+    ``pattern``, and their count."""
+    total, cpu, n = 0.0, 0.0, 0
     for f in sorted(folder.glob(pattern)):
         with f.open() as fh:
             rows = list(csv.DictReader(fh, delimiter="\t"))
         if rows:
             total += float(rows[0]["s"])
+            cpu += float(rows[0].get("cpu_time") or "nan")
             n += 1
-    return total, n
+    return total, cpu, n
 
 
 def main() -> None:
@@ -63,27 +67,31 @@ def main() -> None:
             elapsed = time.perf_counter() - start
             forced = np.broadcast_to(w[None, :] > 0, out["converged"].shape)
             ms = 1e3 * out["orbit_time_s"][forced]
+            cpu = 1e3 * out["orbit_cpu_s"][forced]
             conv = out["converged"] & forced
             map_s[f"{method}_{model}"] = elapsed
             print(f"{method} {model}: {ms.size} orbits, {int(conv.sum())} converged, median "
-                  f"{np.median(ms):.1f} ms/orbit (p90 {np.percentile(ms, 90):.1f} ms), "
+                  f"{np.median(ms):.1f} ms/orbit wall, {np.median(cpu):.1f} ms CPU (p90 "
+                  f"{np.percentile(cpu, 90):.1f} ms CPU), "
                   f"max residual {np.nanmax(out['residual'][conv]):.1e}, mean Newton iterations "
                   f"{np.mean(out['iterations'][forced]):.2f}, map {elapsed:.1f} s")
     n_models = len(cfg["nonlinear"]["models"])
     scale = n_models / len(args.models) * args.stride**2
     total = sum(map_s.values()) * scale
     print(f"full {'+'.join(args.methods)} orbit maps of {n_models} models on the thesis grid: "
-          f"{total:.0f} s (extrapolated x{scale:g})")
+          f"{total:.0f} s wall (extrapolated x{scale:g}; load average "
+          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs)")
     bench = Path(args.results) / "benchmarks"
-    sweep_s, n_sweep = job_seconds(bench, "nonlinear_time_N[TP]_*_*.tsv")
-    maps_s, n_maps = job_seconds(bench, "periodic_map_thesis_*.tsv")
+    sweep_s, sweep_cpu, n_sweep = job_seconds(bench, "nonlinear_time_N[TP]_*_*.tsv")
+    maps_s, maps_cpu, n_maps = job_seconds(bench, "periodic_map_thesis_*.tsv")
     if n_sweep:
-        print(f"today's NT + NP simulation sweeps: {sweep_s:.0f} s of job time ({n_sweep} "
-              f"benchmark files in {bench})")
+        print(f"today's NT + NP simulation sweeps: {sweep_s:.0f} s of job time, {sweep_cpu:.0f} "
+              f"s CPU ({n_sweep} benchmark files in {bench})")
     else:
         print(f"no NT/NP sweep benchmark files in {bench} (run the thesis profile)")
     if n_maps:
-        print(f"periodic map jobs (thesis grid): {maps_s:.0f} s of job time ({n_maps} files)")
+        print(f"periodic map jobs (thesis grid): {maps_s:.0f} s of job time, {maps_cpu:.0f} s "
+              f"CPU ({n_maps} files)")
 
 
 if __name__ == "__main__":

@@ -71,6 +71,22 @@ def test_single_and_multiple_shooting_agree(hr_nt_linear_limit):
     assert _match_multipliers(four.floquet_multipliers, one.floquet_multipliers) < 1e-6
 
 
+def test_np_half_period_symmetry_holds():
+    """NP: the moving legs make the forcing; its odd symmetry (the legs' mirror image half a
+    revolution later) is detected, and the half-period orbit is the full-period one (independent
+    Newton problems over T/2 and T; agreement to the integration tolerance, 1e-9)."""
+    s = periodic.OrbitSolver("HR", "NP", OMEGA)
+    assert s.half_period
+    a = s.solve(5.0)
+    s.half_period = False
+    b = s.solve(5.0)
+    assert a.converged and b.converged and max(a.periodicity_residual,
+                                               b.periodicity_residual) <= 1e-9
+    assert a.roll_amplitude_rad == pytest.approx(b.roll_amplitude_rad, rel=1e-7)
+    assert a.steer_phase_rad == pytest.approx(b.steer_phase_rad, abs=1e-7)
+    assert _match_multipliers(a.floquet_multipliers, b.floquet_multipliers) < 1e-6
+
+
 def test_stable_orbit_equals_long_simulation():
     """At 5 m/s, 60 rpm HR is stable (|mu| < 0.7 per period): a simulation of the same model
     (speed held) from upright with scipy's DOP853 at rtol 1e-11 has converged to the orbit after

@@ -266,12 +266,15 @@ class OrbitSolver:
         Relative step of the differences of the variational equations (default 1.5e-8
         forward, 1e-6 central) and whether they are central (twice the cost, error ~1e-12
         instead of ~1e-8).
+    half_period
+        Shoot over half a period with the odd symmetry ``z(t + T/2) = -z(t)`` (default: when
+        the right-hand side has that symmetry, checked numerically); False: a full period.
     """
 
     def __init__(self, model: str, method: str, omega_rad_s: float, *, torque_scale: float = 1.0,
                  harmonics: tuple[int, ...] = (1, 3, 5), rtol: float = 1e-9,
                  max_growth: float = 100.0, fd_step: float | None = None,
-                 central: bool = False) -> None:
+                 central: bool = False, half_period: bool | None = None) -> None:
         if model not in _Adapter.models():
             raise ValueError(f"unknown model {model!r}: expected one of {_Adapter.models()}")
         if method not in METHODS:
@@ -318,9 +321,17 @@ class OrbitSolver:
         fc.central = int(central)
         fc.fd_step = float(fd_step if fd_step is not None else (1e-6 if central else 1.5e-8))
         self._fc = fc
-        self.half_period = self._odd_symmetric()
-        self.shoot_s = self.period_s / 2 if self.half_period else self.period_s
+        symmetric = self._odd_symmetric()
+        if half_period and not symmetric:
+            raise ValueError(f"{model} {method}: the forcing is not odd-symmetric, so the "
+                             "half-period shooting does not apply")
+        self.half_period = symmetric if half_period is None else bool(half_period)
         self._h = ctypes.c_double(0.0)
+
+    @property
+    def shoot_s(self) -> float:
+        """Length of the shooting interval: half the period with the odd symmetry, else T."""
+        return self.period_s / 2 if self.half_period else self.period_s
 
     # -- low level ----------------------------------------------------------------------------
     def _ptr(self, a) -> int:
@@ -567,7 +578,8 @@ def orbit(model: str, method: str, speed_m_s: float, cadence_rad_s: float, **kw)
 
 MAP_KEYS = ("roll_amp_rad", "steer_amp_rad", "roll_phase_rad", "steer_phase_rad",
             "max_multiplier_abs", "residual", "peak_roll_rad", "peak_steer_rad",
-            "hold_torque_mean_nm", "orbit_time_s", "ps_roll_amp_rad", "ps_steer_amp_rad")
+            "hold_torque_mean_nm", "orbit_time_s", "orbit_cpu_s", "ps_roll_amp_rad",
+            "ps_steer_amp_rad")
 
 
 def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float = 1e-9,
@@ -612,13 +624,14 @@ def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float 
         out["ps_steer_amp_rad"][:, j] = np.abs(steer_ps[:, first])
         previous: Orbit | None = None
         for i, vi in enumerate(v):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             orb = solver.solve(vi)
             if not orb.converged:
                 orb = solver.solve(vi, segments=2 * orb.segments)
             if not orb.converged and previous is not None:
                 orb = solver.solve(vi, start=previous.nodes)
             out["orbit_time_s"][i, j] = time.perf_counter() - t0
+            out["orbit_cpu_s"][i, j] = time.process_time() - c0
             if orb.converged:
                 previous = orb
             out["roll_amp_rad"][i, j] = orb.roll_amplitude_rad
@@ -637,9 +650,11 @@ def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float 
             out["iterations"][i, j] = orb.iterations
             out["segments"][i, j] = orb.segments
             out["n_rhs"][i, j] = orb.n_rhs
-            for key in MAP_KEYS[:10]:
-                if not orb.converged:
-                    out[key][i, j] = np.nan if key != "orbit_time_s" else out[key][i, j]
+            if not orb.converged:  # keep the residual reached, blank the orbit's values
+                for key in ("roll_amp_rad", "steer_amp_rad", "roll_phase_rad", "steer_phase_rad",
+                            "max_multiplier_abs", "peak_roll_rad", "peak_steer_rad",
+                            "hold_torque_mean_nm"):
+                    out[key][i, j] = np.nan
     out["speed_m_s"], out["omega_rad_s"] = v, w
     return out
 
@@ -975,6 +990,7 @@ def map_summary(maps) -> pd.DataFrame:
         forced = np.broadcast_to(w[None, :] > 0, np.shape(d["converged"]))
         conv = np.asarray(d["converged"]) & forced
         t_ms = 1e3 * np.asarray(d["orbit_time_s"])[forced]
+        cpu_ms = 1e3 * np.asarray(d["orbit_cpu_s"])[forced] if "orbit_cpu_s" in d else t_ms
         rows.append({
             "model": str(d["model"]), "method": str(d["method"]),
             "speeds": int(np.size(d["speed_m_s"])), "cadences": int(w.size),
@@ -987,6 +1003,8 @@ def map_summary(maps) -> pd.DataFrame:
             "max_segments": int(np.max(np.asarray(d["segments"])[forced])) if forced.any()
             else 0,
             "median_ms_per_orbit": float(np.median(t_ms)) if t_ms.size else float("nan"),
+            "median_cpu_ms_per_orbit": float(np.median(cpu_ms)) if cpu_ms.size
+            else float("nan"),
             "map_s": float(d["elapsed_s"])})
     return pd.DataFrame(rows)
 
