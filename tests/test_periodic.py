@@ -89,17 +89,17 @@ def test_np_half_period_symmetry_holds():
 
 def test_stable_orbit_equals_long_simulation():
     """At 5 m/s, 60 rpm HR is stable (|mu| < 0.7 per period): a simulation of the same model
-    (speed held) from upright with scipy's DOP853 at rtol 1e-11 has converged to the orbit after
-    60 periods (0.7^60 ~ 5e-10); its cadence amplitude over the last five periods (rectangular
+    (speed held) from upright with scipy's DOP853 at rtol 1e-10 has converged to the orbit after
+    40 periods (0.7^40 ~ 6e-7); its cadence amplitude over the last five periods (rectangular
     DFT, exact for a periodic signal sampled over whole periods) equals the orbit's to 1e-4."""
     s = periodic.OrbitSolver("HR", "NT", OMEGA)
     orb = s.solve(5.0)
     assert orb.converged and orb.stable
     y0, _ = s.state(np.zeros(4))
-    n_per, n_keep, fs = 60, 5, 64
+    n_per, n_keep, fs = 40, 5, 64
     t_eval = s.period_s * (n_per - n_keep + np.arange(n_keep * fs) / fs)
     sol = solve_ivp(lambda t, y: s.rhs(t, y)[0], (0, n_per * s.period_s), y0, method="DOP853",
-                    rtol=1e-11, atol=1e-13, t_eval=t_eval)
+                    rtol=1e-10, atol=1e-12, t_eval=t_eval)
     assert sol.success
     e = np.exp(-1j * OMEGA * t_eval)
     roll = 2 * abs(np.mean(sol.y[0] * e))
@@ -130,7 +130,7 @@ def test_continuation_crossings_are_the_linear_stability_boundaries():
     root-finding error of the linear boundary."""
     s = periodic.OrbitSolver("HR", "NT", OMEGA)
     ((lo, hi),) = linear.stable_ranges(s.linear, np.linspace(0.0, 10.0, 501))
-    br = periodic.continue_branch("HR", "NT", "speed_m_s", 2.0, 10.0, OMEGA, ds=0.3,
+    br = periodic.continue_branch("HR", "NT", "speed_m_s", 2.0, 10.0, OMEGA, ds=0.5,
                                   torque_scale=1e-3)
     assert [c["kind"] for c in br.crossings] == ["complex", "+1"]
     assert br.crossings[0]["value"] == pytest.approx(lo, abs=2e-4)
