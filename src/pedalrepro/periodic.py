@@ -88,9 +88,10 @@ class _Adapter:
 
     @staticmethod
     def models() -> tuple[str, ...]:
-        from .nonlinear import parameters as nlp
+        """The four models of the thesis; each has a non-linear counterpart (HS a substitute)."""
+        from .params import MODELS
 
-        return tuple(m for m in nlp.NONLINEAR_MODELS if m != "benchmark")
+        return tuple(MODELS)
 
     @staticmethod
     @cache
@@ -125,25 +126,31 @@ class _Adapter:
                 "idep": tuple(model.U_DEP)}
 
     @staticmethod
-    def generated_c(nl) -> Path:
-        """The model's generated C source (kept beside its compiled library by codegen)."""
+    def generated_c(nl) -> str:
+        """C source with the model's generated ``constraint_matrix`` and ``dynamics``."""
         from .nonlinear import codegen
 
-        so = codegen.compiled_library(nl.options)
+        if hasattr(codegen, "generated_c"):  # the generated functions alone
+            return Path(codegen.generated_c(nl.options)).read_text()
+        so = codegen.compiled_library(nl.options)  # the full source is kept beside it
         if so is None:
             raise RuntimeError("no C compiler: the periodic driver needs the compiled model")
         c_file = Path(so).with_suffix(".c")
         if not c_file.exists():
             raise FileNotFoundError(f"generated C source of the model missing: {c_file}")
-        return c_file
+        return c_file.read_text()
 
     @staticmethod
     @cache
-    def library(c_file: Path) -> ctypes.CDLL:
+    def library(model_c: str) -> ctypes.CDLL:
         """Model C + :file:`periodic_driver.c`, compiled once into the model cache folder."""
-        src = c_file.read_text() + "\n" + _DRIVER.read_text()
+        from .nonlinear import codegen
+
+        src = model_c + "\n" + _DRIVER.read_text()
         digest = hashlib.sha256(src.encode()).hexdigest()[:16]
-        so = c_file.with_name(f"{c_file.stem}.periodic_{digest}.so")
+        folder = Path(codegen.cache_dir())
+        folder.mkdir(parents=True, exist_ok=True)
+        so = folder / f"periodic_{digest}.so"
         if not so.exists():
             cc = shutil.which(os.environ.get("CC", "gcc")) or shutil.which("cc")
             if cc is None:

@@ -13,6 +13,7 @@
    (directional derivatives of the right-hand side by central or forward differences) and five quadratures:
    roll cos(w t), roll sin(w t), steer cos(w t), steer sin(w t) and tau. */
 
+#include <math.h>
 #include <string.h>
 
 typedef struct {
