@@ -164,3 +164,31 @@ def test_cli_json_and_errors(capsys):
                  "--segments", "1"]) == 3
     err = capsys.readouterr().err
     assert "did not converge" in err and "residual reached" in err
+
+
+def test_speed_holding_torque_balances_the_energy():
+    """The held-speed dynamics (C driver) against the model's own energy function (generated
+    Python, independent of the C dynamics): along the flow the total energy changes at the power
+    of the applied generalised forces, dE/dt = tau u_rear + T_roll u_roll + T_steer u_steer,
+    with tau the rear-hub torque that holds the speed. Central difference of E (~1e3 J) along
+    the flow with step 1e-5 s: rounding ~1e-16 x 1e3 / 1e-5 ~ 1e-8 W, truncation smaller, so
+    1e-6 relative of a few W is met with margin; here the holding torque carries most of the
+    power, so a wrong one (e.g. zero) breaks the balance by O(1)."""
+    from pedalrepro.simulate import harmonic_torque
+
+    s = periodic.OrbitSolver("HR", "NT", OMEGA)
+    s.set_speed(5.0)
+    orb = s.solve(5.0)
+    t = 0.1
+    z = s.flow(0.0, t, orb.nodes[0], variational=False)["z1"]
+    y, _ = s.state(z)
+    dy, tau = s.rhs(t, y)
+    u_rear = -5.0 / s.r_rear_m
+    x = np.array([y[0], y[1], y[2], y[3], u_rear, y[4]])
+    dx = np.array([dy[0], dy[1], dy[2], dy[3], 0.0, dy[4]])
+    h = 1e-5
+    dE = (s.nl.energy_J(t + h, x + h * dx) - s.nl.energy_J(t - h, x - h * dx)) / (2 * h)
+    t_roll, t_steer = harmonic_torque(s.harmonics, OMEGA)(t)
+    power = tau * u_rear + t_roll * y[3] + t_steer * y[4]
+    assert abs(tau * u_rear) > 0.5 * abs(power)  # the holding torque matters here
+    assert dE == pytest.approx(power, rel=1e-6)
