@@ -192,3 +192,14 @@ def test_speed_holding_torque_balances_the_energy():
     power = tau * u_rear + t_roll * y[3] + t_steer * y[4]
     assert abs(tau * u_rear) > 0.5 * abs(power)  # the holding torque matters here
     assert dE == pytest.approx(power, rel=1e-6)
+
+
+def test_cadence_continuation_follows_the_orbits():
+    """NT branch in cadence at 5 m/s: each continued point is the orbit solved directly at its
+    cadence (two independent Newton problems; same integrator, so 1e-8)."""
+    br = periodic.continue_branch("HR", "NT", "omega_rad_s", 5.0, 8.0, 5.0, ds=1.5, ds_max=1.5)
+    assert br.values[0] == 5.0 and br.values[-1] >= 8.0 and len(br.values) >= 3
+    k = len(br.values) // 2
+    direct = periodic.OrbitSolver("HR", "NT", br.values[k]).solve(5.0)
+    assert br.roll_amp_rad[k] == pytest.approx(direct.roll_amplitude_rad, rel=1e-8)
+    assert np.max(br.residual) <= 1e-9
