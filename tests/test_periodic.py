@@ -203,3 +203,22 @@ def test_cadence_continuation_follows_the_orbits():
     direct = periodic.OrbitSolver("HR", "NT", br.values[k]).solve(5.0)
     assert br.roll_amp_rad[k] == pytest.approx(direct.roll_amplitude_rad, rel=1e-8)
     assert np.max(br.residual) <= 1e-9
+
+
+@pytest.mark.workflow
+def test_quick_workflow_orbits_converge_with_small_residual(quick_workflow):
+    """Every orbit map of the quick profile (all models, NT and NP, stable and unstable speeds):
+    every forced grid point converged, residual <= 1e-9; the continuation found, for HR, the
+    weave and capsize crossings near its own linear boundaries (within 0.1 m/s: the pedalling
+    torques shift them by millimetres per second)."""
+    import pandas as pd
+
+    assert quick_workflow.returncode == 0
+    maps = pd.read_csv(quick_workflow.results / "tables" / "periodic_maps.csv")
+    assert set(maps["method"]) == {"NT", "NP"} and len(maps) == 8
+    assert (maps["converged"] == maps["orbits"]).all()
+    assert (maps["max_residual"] <= 1e-9).all()
+    cross = pd.read_csv(quick_workflow.results / "tables" / "periodic_crossings.csv")
+    hr = cross[(cross["model"] == "HR") & (cross["method"] == "NT")]
+    assert sorted(hr["kind"]) == ["+1", "complex"]
+    assert (hr["shift_m_s"].abs() < 0.1).all()
