@@ -998,8 +998,17 @@ def map_summary(maps) -> pd.DataFrame:
         conv = np.asarray(d["converged"]) & forced
         t_ms = 1e3 * np.asarray(d["orbit_time_s"])[forced]
         cpu_ms = 1e3 * np.asarray(d["orbit_cpu_s"])[forced] if "orbit_cpu_s" in d else t_ms
+        v = np.asarray(d["speed_m_s"])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rd = np.abs(np.asarray(d["roll_amp_rad"]) / np.asarray(d["ps_roll_amp_rad"]) - 1)
+        rd = np.where(conv & np.isfinite(rd), 100.0 * rd, -1.0)
+        i, j = np.unravel_index(int(np.argmax(rd)), rd.shape)
         rows.append({
             "model": str(d["model"]), "method": str(d["method"]),
+            "max_rd_orbit_vs_ps_roll_pct": float(rd[i, j]) if conv.any() else float("nan"),
+            "max_rd_at_speed_m_s": float(v[i]), "max_rd_at_omega_rad_s": float(w[j]),
+            "median_rd_orbit_vs_ps_roll_pct": float(np.median(rd[conv])) if conv.any()
+            else float("nan"),
             "speeds": int(np.size(d["speed_m_s"])), "cadences": int(w.size),
             "orbits": int(forced.sum()), "converged": int(conv.sum()),
             "stable": int((np.asarray(d["stable"]) & forced).sum()),
