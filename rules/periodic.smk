@@ -74,7 +74,7 @@ rule periodic_branch:
     wildcard_constraints:
         model="|".join(NONLINEAR_MODELS),
     params:
-        methods=PERIODIC["methods"],
+        methods=PERIODIC["continuation_methods"],
         cadence_rpm=config["linear"]["reference_cadence_rpm"],
         speed_range_m_s=PERIODIC["continuation_speed_m_s"],
         torque_scales=PERIODIC["continuation_torque_scales"],
