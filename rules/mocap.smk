@@ -3,24 +3,22 @@
 # (DESIGN.md "Treadmill data: offline and honest"); outputs built from the synthetic stand-in say
 # so (data_source column, SYNTHETIC stamp, report status "not reproducible here").
 
-MOCAP_CODE = pkg(
-    "mocap/__init__", "mocap/fetch", "mocap/reader", "mocap/kinematics", "mocap/cadence",
-    "mocap/runs", "spectral",
-)
+# The mocap keys the synthetic stand-in uses (pedalrepro.mocap.synthetic, its `mocap_cfg`).
+MOCAP_STAND_IN_KEYS = ["duration_s", "sample_rate_hz", "marker_noise_m", "gaps_per_marker_per_min",
+                       "max_gap_s", "repair_gap_max_s", "max_runs_per_system",
+                       "stand_in_gear_ratios", "stand_in_cadence_rpm"]
 MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)]
 
 
 rule mocap_runs:
     input:
-        code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
-        runs_yaml="data/parameters/validation_runs.yaml",
-        registry="data/registry.txt",
+        code=code_inputs("scripts/mocap_runs.py"),
     output:
         runs=directory(interm("mocap/runs")),
         source=interm("mocap/source.json"),
     params:
         data_source=config["data_source"],
-        mocap=config["mocap"],
+        mocap=cfg("mocap", *MOCAP_STAND_IN_KEYS),
         seed=config["seed"],
     log:
         logfile("mocap_runs"),
@@ -36,7 +34,7 @@ rule mocap_extract:
     input:
         runs=interm("mocap/runs"),
         source=interm("mocap/source.json"),
-        code=MOCAP_CODE,
+        code=code_inputs("scripts/mocap_extract.py"),
     output:
         table=interm("mocap/measured.csv"),
         series=interm("mocap/series.npz"),
@@ -58,8 +56,7 @@ rule validation_tables:
         runs=interm("mocap/runs"),
         source=interm("mocap/source.json"),
         model=table("table_4_1_model"),
-        runs_yaml="data/parameters/validation_runs.yaml",
-        code=MOCAP_CODE + pkg("validation", "report", "disturbance", "response", "linear"),
+        code=code_inputs("scripts/mocap_tables.py"),
     output:
         t41=table("table_4_1"),
         t42=table("table_4_2"),
@@ -78,9 +75,13 @@ rule validation_figures:
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
         source=interm("mocap/source.json"),
-        code=pkg("validation", "spectral", "figures/__init__", "figures/validation"),
+        code=code_inputs("scripts/mocap_figures.py"),
     output:
         MOCAP_FIGURES,
+    params:
+        ps_grid=cfg("linear", "ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
+                    "ps_omega_max_rad_s"),
+        example_runs_per_system=config["mocap"]["example_runs_per_system"],
     log:
         logfile("validation_figures"),
     message:

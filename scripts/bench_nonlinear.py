@@ -22,8 +22,9 @@ import time
 import numpy as np
 
 from pedalrepro import config, response
-from pedalrepro.nonlinear import sweep
-from pedalrepro.simulate import SPACAR_ATOL, SPACAR_RTOL, simulate
+from pedalrepro.integrator import SPACAR_ATOL, SPACAR_RTOL
+from pedalrepro.nonlinear import models, sweep
+from pedalrepro.nonlinear.simulate import simulate
 
 
 def timed(fn, *args, **kwargs):
@@ -45,28 +46,31 @@ def main() -> None:
     print(f"thesis profile: {settings.duration_s:g} s at {settings.sample_rate_hz:g} Hz, "
           f"rtol {settings.rtol:g}, atol {settings.atol:g}")
     for name in args.models:
-        h = response.forcing(name, cfg)
-        sweep.np_model(name, 6.0)  # build/load the cached code outside the timings
+        h = response.forcing(name, cfg["linear"]["harmonics"])
+        models.np_model(name, 6.0)  # build/load the cached code outside the timings
         for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
             sim, dt = timed(sweep.run, "NP", name, 6.0, 6.0, h, s)
             print(f"one 180 s NP run ({name}, 6 m/s, 6 rad/s), compiled RK45, {label}: "
                   f"{dt:.3f} s ({sim.n_rhs} rhs calls, {dt / sim.n_rhs * 1e6:.1f} us/call, "
                   f"fell={sim.fell} at {sim.t_end_s:.1f} s)")
-    nl = sweep.np_model("HR", 6.0)
+    nl = models.np_model("HR", 6.0)
     sim, dt = timed(simulate, nl, 6.0, settings.duration_s, settings.sample_rate_hz,
-                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
+                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
+                    compiled=False)
     print(f"same run with scipy solve_ivp(RK45) + compiled right-hand side: {dt:.2f} s "
           f"({sim.n_rhs} rhs calls)")
     if args.single_only:
         return
 
-    v, w = response.time_grid(cfg)
+    lin = cfg["linear"]
+    v, w = response.speed_cadence_grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"],
+                                       lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"])
     # zero cadence needs no run (no forcing): sample and count only the forced points
     w_forced = w[w > 0]
     vs, ws = v[:: args.sample_stride], w_forced[:: args.sample_stride]
     per_run = []
     for name in cfg["nonlinear"]["models"]:
-        hm = response.forcing(name, cfg)
+        hm = response.forcing(name, lin["harmonics"])
         for method in sweep.METHODS:
             out, dt = timed(sweep.grid_runs, method, name, vs, ws, hm, settings)
             n = vs.size * ws.size

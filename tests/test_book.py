@@ -80,7 +80,7 @@ def test_figure_id_list_follows_the_thesis():
     assert len(ids) == 70
     assert ids["id"].is_unique
     assert ids.groupby("chapter").size().to_dict() == {"2": 8, "3": 50, "4": 12}
-    assert all(t == figures._thesis_label(i) for i, t in zip(ids["id"], ids["thesis"], strict=True))
+    assert all(t == figures.thesis_label(i) for i, t in zip(ids["id"], ids["thesis"], strict=True))
     assert (ids["id"].str.startswith("table_").sum(), len(ids)) == (3, 70)
     # thesis order within each chapter: main-text numbers ascend
     main = ids[ids["id"].str.fullmatch(r"fig_\d_\d+")]
@@ -157,8 +157,8 @@ def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProc
     """The repository's book rule (rules/book.smk) on a temporary copy whose book holds only the
     introduction and one notebook with ``cell_source``."""
     root = tmp_path / "repo"
-    for rel in ("rules/common.smk", "rules/book.smk", "package.json", "package-lock.json",
-                "data/figure_ids.yaml"):
+    for rel in ("rules/common.smk", "rules/book.smk", "rules/scripts/write_config.py",
+                "package.json", "package-lock.json", "data/figure_ids.yaml"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(paths.ROOT / rel, root / rel)
     shutil.copytree(paths.CONFIG, root / "config")
