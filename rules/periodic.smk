@@ -6,13 +6,6 @@
 PERIODIC = config["periodic"]
 
 
-# Code inputs of a rule script: code_inputs (rules/common.smk, change tracking) when available,
-# else the modules listed by hand (all periodic rules alike).
-periodic_code = code_inputs if "code_inputs" in globals() else (
-    lambda script: NONLINEAR_CODE + pkg("periodic", "evaluation", "figures/__init__",
-                                        "figures/periodic")
-    + [f"{PKG}/periodic_driver.c", f"{PKG}/pedalrepro.mplstyle"])
-
 PERIODIC_GRIDS = {
     "thesis": {
         "speed_step_m_s": config["linear"]["time_speed_step_m_s"],
@@ -41,7 +34,7 @@ PERIODIC_TABLES = [table("periodic_maps"), table("periodic_crossings"),
 
 rule periodic_map:
     input:
-        code=periodic_code("scripts/periodic_map.py"),
+        code=code_inputs("scripts/periodic_map.py"),
         codegen=interm("nonlinear/codegen.txt"),
     output:
         interm("periodic/{grid}_{method}_{model}.npz"),
@@ -67,7 +60,7 @@ rule periodic_map:
 
 rule periodic_branch:
     input:
-        code=periodic_code("scripts/periodic_branch.py"),
+        code=code_inputs("scripts/periodic_branch.py"),
         codegen=interm("nonlinear/codegen.txt"),
     output:
         interm("periodic/branch_{model}.npz"),
@@ -95,7 +88,7 @@ rule periodic_branch:
 
 rule periodic_tables:
     input:
-        code=periodic_code("scripts/periodic_tables.py"),
+        code=code_inputs("scripts/periodic_tables.py"),
         maps=PERIODIC_MAPS,
         branches=PERIODIC_BRANCHES,
         time=[interm(f"time/{method}_{model}.npz") for model in NONLINEAR_MODELS
@@ -114,7 +107,7 @@ rule periodic_tables:
 
 rule periodic_figures:
     input:
-        code=periodic_code("scripts/periodic_figures.py"),
+        code=code_inputs("scripts/periodic_figures.py"),
         maps=PERIODIC_MAPS,
         fine=PERIODIC_FINE,
         branches=PERIODIC_BRANCHES,

@@ -174,7 +174,7 @@ def test_speed_holding_torque_balances_the_energy():
     the flow with step 1e-5 s: rounding ~1e-16 x 1e3 / 1e-5 ~ 1e-8 W, truncation smaller, so
     1e-6 relative of a few W is met with margin; here the holding torque carries most of the
     power, so a wrong one (e.g. zero) breaks the balance by O(1)."""
-    from pedalrepro.simulate import harmonic_torque
+    from pedalrepro.integrator import harmonic_torque
 
     s = periodic.OrbitSolver("HR", "NT", OMEGA)
     s.set_speed(5.0)
