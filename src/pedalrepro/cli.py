@@ -13,7 +13,7 @@ import sys
 from . import __version__
 
 #: Modules (relative to the package) that add sub-commands.
-COMMAND_MODULES: tuple[str, ...] = ("mocap.cli", "report", "own_bicycle")
+COMMAND_MODULES: tuple[str, ...] = ("mocap.cli", "report", "own_bicycle", "periodic")
 
 
 def build_parser() -> argparse.ArgumentParser:
