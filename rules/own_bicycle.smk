@@ -4,8 +4,8 @@
 # The shipped Rigid bicycle (BicycleParameters 1.5.2) with rider Jason. Its lst + lsp = 0.751 m
 # leaves the 0.92 m legs of legs.yaml 0.9 mm short of the pedal: the hip is set at 0.72 m, as the
 # thesis shortened the Browser's seat post (Sec 2.1.1).
-OWN_BICYCLE = dict(data_dir="data/parameters/bicycleparameters", bicycle="Rigid", rider="Jason",
-                   seat_height_m=0.72)
+OWN_DATA_DIR = "data/parameters/bicycleparameters"
+OWN_BICYCLE = dict(bicycle="Rigid", rider="Jason", seat_height_m=0.72)
 OWN_STEM = f"{OWN_BICYCLE['bicycle']}_{OWN_BICYCLE['rider']}"
 
 
@@ -13,6 +13,7 @@ rule own_bicycle_resonance:
     input:
         # the script, its import closure and the example's files (own_bicycle.DATA_FILES)
         code=code_inputs("scripts/own_bicycle.py"),
+        data_dir=OWN_DATA_DIR,
     output:
         map=table(f"own_bicycle/{OWN_STEM}_resonance_map"),
         summary=table(f"own_bicycle/{OWN_STEM}_summary"),
