@@ -375,14 +375,19 @@ def test_cached_files_verified_against_registry(monkeypatch, tmp_path, stand_in)
     monkeypatch.setenv(fetch.ENV, str(data_dir))
     pup = fetch.make_pooch(registry=reg)
     assert fetch.resolve_source("auto", pup) == ("figshare",
-                                                 "all registry files cached and verified")
+                                                 "all registry run files cached and verified")
     assert fetch.run_files(pup, progressbar=False) == {run_id: data_dir / name}
-    # a wrongly hashed (altered) file: clear error naming it, nothing downloaded
+    # a wrongly hashed (altered) file: reported, removed, fetched again (offline here: fails
+    # with the file named)
     raw = bytearray((data_dir / name).read_bytes())
     raw[-10] ^= 0xFF
     (data_dir / name).write_bytes(bytes(raw))
-    with pytest.raises(fetch.HashMismatchError, match=name):
-        fetch.fetch(name, pup)
+    monkeypatch.setattr(pooch.Pooch, "fetch", _offline)
+    events = []
+    with pytest.raises(fetch.DataUnavailableError, match=name):
+        fetch.fetch(name, pup, events=events)
+    assert len(events) == 1 and "does not match the registry" in events[0]
+    assert "removed" in events[0] and not (data_dir / name).exists()
     with pytest.raises(KeyError, match="not in the registry"):
         fetch.verify(pup, "9999.mat")
 
