@@ -404,7 +404,7 @@ def test_registry_listed_but_not_cached_offline(monkeypatch, tmp_path):
     assert fetch.resolve_source("auto", pup)[0] == "synthetic"
     with pytest.raises(fetch.DataUnavailableError):
         fetch.resolve_source("figshare", pup)
-    with pytest.raises(fetch.DataUnavailableError, match="cannot be reached"):
+    with pytest.raises(fetch.DataUnavailableError, match="3082.mat: cannot be downloaded"):
         fetch.run_files(pup, progressbar=False)
 
 

@@ -293,7 +293,8 @@ def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True,
     return Path(out)
 
 
-def figshare_registry(pup: pooch.Pooch, events: list[str] | None = None) -> dict[str, str]:
+def figshare_registry(pup: pooch.Pooch, events: list[str] | None = None,
+                      require_doi: bool = False) -> dict[str, str]:
     """The figshare file list with hashes: the committed registry, completed from the DOI.
 
     When the committed registry lists no run file (the shipped, empty one) or only some, the
@@ -304,14 +305,15 @@ def figshare_registry(pup: pooch.Pooch, events: list[str] | None = None) -> dict
     Raises
     ------
     DataUnavailableError
-        The registry has no run file and the DOI cannot be resolved (offline).
+        The DOI cannot be resolved (offline) and the registry has no run file, or
+        ``require_doi`` (files that are not cached need the network anyway).
     """
     committed = dict(pup.registry)
     probe = make_pooch(registry=None, path=pup.abspath)
     try:
         probe.load_registry_from_doi()
     except (OSError, ValueError) as exc:
-        if any(RUN_FILE.match(n) for n in committed):
+        if not require_doi and any(RUN_FILE.match(n) for n in committed):
             if events is not None:
                 events.append(f"figshare file list not refreshed from the DOI "
                               f"({type(exc).__name__}); the committed registry is used")
@@ -404,7 +406,7 @@ def resolve_source(requested: str = "auto", pup: pooch.Pooch | None = None
     if cached_complete(pup):
         return "figshare", "all registry run files cached and verified"
     try:
-        figshare_registry(pup)
+        figshare_registry(pup, require_doi=True)
         return "figshare", f"downloadable from figshare (DOI {DOI})"
     except DataUnavailableError as exc:
         if requested == "figshare":
