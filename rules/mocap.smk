@@ -1,20 +1,25 @@
 # Rules of the mocap part (see rules/common.smk for helpers): the treadmill data (Sec 4.1),
 # Tables 4.1 and 4.2 and Figures 4.2-4.11. data_source (config): auto | figshare | synthetic
-# (DESIGN.md "Treadmill data: offline and honest"); outputs built from the synthetic stand-in say
-# so (data_source column, SYNTHETIC stamp, report status "not reproducible here").
+# (pedalrepro.mocap.prepare): auto = figshare when it can be had, else the stand-in plus the real
+# public-subset runs in $PEDALREPRO_DATA_DIR (or downloadable), each row labelled (data_source
+# column: figshare | synthetic | public_subset; SYNTHETIC stamp; report status "not reproducible
+# here" for synthetic rows). The data folder is not a tracked input: after adding files to it,
+# rerun with `snakemake -j2 -R mocap_runs`.
 
 MOCAP_CODE = pkg(
     "mocap/__init__", "mocap/fetch", "mocap/reader", "mocap/kinematics", "mocap/cadence",
-    "mocap/runs", "spectral",
+    "mocap/runs", "mocap/exports", "mocap/prepare", "spectral",
 )
-MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)]
+MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)] + [figure("real_run_panel")]
 
 
 rule mocap_runs:
     input:
         code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
         runs_yaml="data/parameters/validation_runs.yaml",
+        public_yaml="data/parameters/public_runs.yaml",
         registry="data/registry.txt",
+        registry_public="data/registry_public.txt",
     output:
         runs=directory(interm("mocap/runs")),
         source=interm("mocap/source.json"),
@@ -27,7 +32,7 @@ rule mocap_runs:
     benchmark:
         bench("mocap_runs")
     message:
-        "Treadmill run files (data_source: {params.data_source}; synthetic stand-in if offline)"
+        "Treadmill run files (data_source: {params.data_source}; offline: stand-in + real subset)"
     script:
         "scripts/mocap_runs.py"
 
@@ -36,10 +41,11 @@ rule mocap_extract:
     input:
         runs=interm("mocap/runs"),
         source=interm("mocap/source.json"),
-        code=MOCAP_CODE,
+        code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
     output:
         table=interm("mocap/measured.csv"),
         series=interm("mocap/series.npz"),
+        excluded=interm("mocap/excluded.csv"),
     params:
         lowpass_hz=config["mocap"]["angle_lowpass_hz"],
     log:
@@ -64,6 +70,7 @@ rule validation_tables:
         t41=table("table_4_1"),
         t42=table("table_4_2"),
         per_run=table("validation_runs"),
+        comparison=table("mocap_real_comparison"),
         report=f"{R}/tables/report/mocap.csv",
     log:
         logfile("validation_tables"),
@@ -78,13 +85,14 @@ rule validation_figures:
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
         source=interm("mocap/source.json"),
-        code=pkg("validation", "spectral", "figures/__init__", "figures/validation"),
+        code=pkg("validation", "spectral", "figures/__init__", "figures/validation",
+                 "disturbance", "response", "linear"),
     output:
         MOCAP_FIGURES,
     log:
         logfile("validation_figures"),
     message:
-        "Figures 4.2-4.11 (measured vs open-loop model)"
+        "Figures 4.2-4.11 (measured vs open-loop model) and the REAL run's panel"
     script:
         "scripts/mocap_figures.py"
 
@@ -92,6 +100,7 @@ rule validation_figures:
 REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
 BOOK_INPUTS.extend(
     [table("table_4_1"), table("table_4_2"), table("validation_runs"),
-     interm("mocap/source.json"), interm("mocap/series.npz")]
+     table("mocap_real_comparison"), interm("mocap/source.json"), interm("mocap/series.npz"),
+     interm("mocap/excluded.csv"), interm("mocap/measured.csv")]
     + MOCAP_FIGURES
 )

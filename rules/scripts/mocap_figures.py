@@ -12,7 +12,8 @@ from pedalrepro.figures import validation as fv
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 source = json.loads(open(snakemake.input.source).read())
 reason = "" if source["data_source"] == "figshare" else source["reason"]
-per_run = pd.read_csv(snakemake.input.per_run)
+per_run_all = pd.read_csv(snakemake.input.per_run)
+per_run = per_run_all[per_run_all.data_source == source["data_source"]]  # never pooled
 series = np.load(snakemake.input.series)
 lin = snakemake.config["linear"]
 v = np.arange(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"] + 1e-9, lin["ps_speed_step_m_s"])
@@ -43,4 +44,12 @@ for system in params.MODELS:
 with figures.style():
     figures.save(fv.fig_4_10(per_run, maps, reason), out["fig_4_10"])
     figures.save(fv.fig_4_11(per_run, reason), out["fig_4_11"])
+real = validation.real_example(per_run_all, series)
+with figures.style():
+    if real is None:
+        fig = fv.no_real_run("No real public-subset run in this build (data_source: "
+                                  f"{source['data_source']}; see the chapter's data note)")
+    else:
+        fig = fv.real_run_panel(real[0], real[1], f"REAL run {real[0].run_id}")
+    figures.save(fig, out["real_run_panel"])
 print("figures written:", sorted(out), file=sys.stderr)

@@ -188,3 +188,51 @@ def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "") -> Figure:
     fig.tight_layout(rect=(0, 0, 1, 0.97 if synthetic_reason else 1))
     _stamp(fig, synthetic_reason)
     return fig
+
+
+def real_run_panel(run: ExampleRun, system: str, data_label: str, window_s: float = 10.0
+                   ) -> Figure:
+    """A Fig 4.2/4.6-style panel of one REAL run (public subset): measured vs open-loop model
+    roll and steer over ``window_s`` (top) and their Hann amplitude spectra (bottom), with the
+    cadence, the Hann bin nearest it (the thesis's amplitude, o) and the DFT at the exact cadence
+    (this project's, x) marked. ``data_label`` is printed in the title (e.g. ``REAL run
+    3045``)."""
+    fs = float(1.0 / np.median(np.diff(run.t_s)))
+    fc = run.cadence_rpm / 60.0
+    fig, axes = plt.subplots(2, 2, figsize=(8.0, 5.2))
+    sel = run.t_s <= run.t_s[0] + window_s
+    for j, (meas, mod, name) in enumerate(_signals(run)):
+        a = axes[0, j]
+        a.plot(run.t_s[sel], meas[sel], "k-", lw=0.9, label="measured")
+        a.plot(run.t_s[sel], mod[sel], "C1--", lw=1.1, label="model (particular solution)")
+        a.set_xlabel("time (s)")
+        a.set_ylabel(f"{name} (rad)")
+        b = axes[1, j]
+        x = meas - meas.mean()
+        f, amp = spectral.spectrum(x, fs, "hann")
+        keep = f <= 4.0 * fc
+        b.semilogy(f[keep], amp[keep], "k-", lw=0.8, label="measured, Hann")
+        fm, am = spectral.spectrum(mod - mod.mean(), fs, "hann")
+        b.semilogy(fm[keep], am[keep], "C1--", lw=0.9, label="model, Hann")
+        k = int(np.argmin(np.abs(f - fc)))
+        b.plot(f[k], amp[k], "o", mfc="none", mec="C0", label="nearest bin (thesis)")
+        b.plot(fc, spectral.amplitude_at(x, fs, fc), "x", color="C3",
+               label="exact cadence (project)")
+        for h in (1, 2, 3):
+            b.axvline(h * fc, color="0.6", ls=":", lw=0.8)
+        b.set_xlabel("frequency (Hz)")
+        b.set_ylabel(f"|{name}| (rad)")
+    axes[0, 0].legend(fontsize=7, loc="upper right")
+    axes[1, 0].legend(fontsize=7, loc="upper right")
+    fig.suptitle(f"{data_label}: system {system}, {run.speed_kmh:.1f} km/h, "
+                 f"{run.cadence_rpm:.2f} rpm (measurement, not synthetic)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def no_real_run(text: str) -> Figure:
+    """The REAL-run panel's stand-in when a build has no real run: a figure that says so."""
+    fig, ax = plt.subplots(figsize=(8.0, 1.6))
+    ax.axis("off")
+    ax.text(0.5, 0.5, text, ha="center", va="center", wrap=True, fontsize=10)
+    return fig

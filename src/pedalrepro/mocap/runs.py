@@ -101,9 +101,9 @@ MAX_GAP_S = 0.5
 #: Largest Hann-weighted share of interpolated samples (many short gaps add up, same bound).
 MAX_INTERPOLATED_SHARE = 0.02
 #: Shortest usable stretch (s) analysed when long gaps split a run: the Hann main lobe is
-#: ``4 / T`` wide, 0.2 Hz = 12 rpm at 20 s, which keeps the cadence (60-90 rpm) clear of the
-#: weave and control band below 0.5 Hz (Sec 4.2) and resolves the cadence to 3 rpm per bin.
-MIN_SEGMENT_S = 20.0
+#: ``4 / T`` wide, 0.27 Hz = 16 rpm at 15 s, which keeps the cadence (60-90 rpm) clear of the
+#: weave and control band below 0.5 Hz (Sec 4.2) and resolves the cadence to 4 rpm per bin.
+MIN_SEGMENT_S = 15.0
 #: Smallest amplitude (m) of the right foot's forward motion at the cadence: while pedalling it
 #: is about the crank length (0.17 m, legs.yaml); the marker noise is 0.15 mm. A run below this
 #: has no pedalling to analyse (frozen, towed or a swapped foot marker).
