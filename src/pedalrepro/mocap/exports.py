@@ -211,11 +211,11 @@ def _check_files(run_id: int, files: dict[str, Path]) -> None:
     missing = [c for c in "xyz" if c not in files]
     if missing:
         have = ", ".join(f"{c}: {files[c].name}" for c in sorted(files)) or "none"
-        need = {"x": "forward position (and the belt distance)", "y": "lateral position",
-                "z": "height"}
-        what = "; ".join(f"{c} ({need[c]})" for c in missing)
+        need = {"x": "forward positions and, in the published exports, the belt distance",
+                "y": "lateral positions", "z": "heights"}
+        what = " and the ".join(f"{c.upper()} file ({need[c]})" for c in missing)
         raise IncompleteRunError(
-            f"run {run_id}: incomplete export, the {what} file is missing "
+            f"run {run_id}: incomplete export, the {what} is missing "
             f"(found {have}; expected {run_id}_X, {run_id}_Y, {run_id}_Z as .xlsx or .csv). "
             "Roll, yaw and steer need the rear frame's and the fork's orientation in 3-D and the "
             "crank angle needs the feet's forward position: without the x coordinate the run "
