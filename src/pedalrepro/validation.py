@@ -233,6 +233,12 @@ def ps_map(system: str, speed_m_s: np.ndarray, omega_rad_s: np.ndarray
 
 #: ``data_source`` of the rows built from the real public subset (pedalrepro.mocap.prepare).
 PUBLIC = "public_subset"
+#: Columns of :func:`method_comparison` (``mocap_real_comparison.csv``, empty without a real run).
+COMPARISON_COLUMNS: tuple[str, ...] = (
+    "run_id", "method", "column", "speed_kmh", "cadence_rpm", "roll_rad", "steer_rad",
+    "speed_published_kmh", "cadence_published_rpm", "roll_published_rad", "steer_published_rad",
+    "belt_speed_matches", "cadence_matches", "roll_matches", "steer_matches", "n_matches",
+)
 
 
 def real_rows(measured: pd.DataFrame, systems: Sequence[str] = ("HR", "CR")) -> pd.DataFrame:
@@ -301,7 +307,7 @@ def method_comparison(row: pd.Series, published: dict) -> pd.DataFrame:
             r["steer_matches"] = bool(abs(steer - c.steer_measured_rad) <= 5e-4)
             r["n_matches"] = int(r["cadence_matches"] + r["roll_matches"] + r["steer_matches"])
             out.append(r)
-    return pd.DataFrame(out)
+    return pd.DataFrame(out, columns=list(COMPARISON_COLUMNS))
 
 
 def real_report_rows(comparison: pd.DataFrame) -> list[report.Row]:
@@ -347,7 +353,7 @@ def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.
     t41 = table_4_1(main, selection, model, ds)
     per_run = per_run_table(main, ds)
     t42 = table_4_2(per_run, ds)
-    comparison = pd.DataFrame()
+    comparison = pd.DataFrame(columns=list(COMPARISON_COLUMNS))
     if not real.empty:
         t41 = pd.concat([t41, real_rows(real)], ignore_index=True)
         per_run = pd.concat([per_run, per_run_table(real, PUBLIC)], ignore_index=True)
