@@ -329,7 +329,8 @@ def test_cli_extract_writes_csv(stand_in, tmp_path):
     csv = tmp_path / "x.csv"
     assert cli.main(["mocap", "extract", str(out / f"{run_id:04d}.mat"), "--out", str(csv)]) == 0
     text = csv.read_text()
-    assert "cadence_rpm=" in text.splitlines()[1]
+    assert text.splitlines()[1] == "# analysis=full (60.00 s)"
+    assert "cadence_rpm=" in text.splitlines()[2]
     df = pd.read_csv(csv, comment="#")
     assert list(df.columns[:4]) == ["time_s", "roll_rad", "steer_rad", "yaw_rad"]
     assert _rms(df.roll_rad.to_numpy(), truth["roll_rad"]) < 1e-3
