@@ -302,3 +302,46 @@ def test_frozen_run_is_refused_in_cli_and_pipeline(tmp_path, hr_run, capsys):
     measured, _, excluded = prepare.extract_runs(folder, {"data_source": "synthetic"}, 12.0)
     assert list(measured.run_id) == [3082]
     assert excluded.set_index("run_id").loc[r.run_id, "reason"] == str(info.value)
+
+
+def test_real_rows_are_never_pooled(published):
+    # Table 4.1's median/range rows and Table 4.2 come from the main source only: adding a
+    # public_subset row changes neither, and the row follows them with its own label and the
+    # model at its own speed and cadence
+    import pandas as pd
+
+    from pedalrepro import validation
+
+    v = runs.validation_runs()
+    rows, sel = [], []
+    for i, c in enumerate(v["table_4_1"]):
+        rid = 3040 + i
+        rows.append({"run_id": rid, "system": c["system"], "speed_kmh": float(c["speed_kmh"]),
+                     "cadence_rpm": float(c["cadence_rpm"]), "cadence_bin_rpm": 0.0,
+                     "roll_measured_rad": 0.01 + 0.001 * i, "steer_measured_rad": 0.02,
+                     "roll_bin_rad": 0.0, "steer_bin_rad": 0.0, "data_source": "synthetic"})
+        sel.append({"system": c["system"], "speed_kmh": float(c["speed_kmh"]),
+                    "cadence_rpm": float(c["cadence_rpm"]), "run_id": rid})
+    for j, s in enumerate(("HS", "CF")):
+        rows.append({**rows[0], "run_id": 3002 + j, "system": s})
+    model = pd.DataFrame([{"system": c["system"], "speed_kmh": float(c["speed_kmh"]),
+                           "roll_model_rad": 0.012, "steer_model_rad": 0.021}
+                          for c in v["table_4_1"]])
+    source = {"data_source": "synthetic", "reason": "test"}
+    base = validation.chapter_4_tables(pd.DataFrame(rows), pd.DataFrame(sel), model, source,
+                                       published)
+    real = {"run_id": 3045, "system": "HR", "speed_kmh": 25.0, "cadence_rpm": 82.39,
+            "cadence_bin_rpm": 82.0, "roll_measured_rad": 0.0118, "steer_measured_rad": 0.0218,
+            "roll_bin_rad": 0.0106, "steer_bin_rad": 0.0197, "data_source": "public_subset"}
+    both = validation.chapter_4_tables(pd.DataFrame(rows + [real]), pd.DataFrame(sel), model,
+                                       source, published)
+    pd.testing.assert_frame_equal(both["t42"], base["t42"])
+    n = len(base["t41"])
+    pd.testing.assert_frame_equal(both["t41"].iloc[:n], base["t41"])
+    last = both["t41"].iloc[n]
+    assert (last.system, last.data_source) == ("HR", "public_subset")
+    r_m, s_m = validation.model_amplitudes("HR", 25.0 / 3.6, 82.39 * np.pi / 30)
+    assert last.roll_model_rad == pytest.approx(float(r_m), rel=1e-12)
+    assert last.steer_model_rad == pytest.approx(float(s_m), rel=1e-12)
+    assert list(base["comparison"].columns) == list(validation.COMPARISON_COLUMNS)
+    assert base["comparison"].empty and len(both["comparison"]) == 8
