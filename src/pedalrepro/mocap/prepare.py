@@ -44,7 +44,7 @@ def _public_runs(out: Path, progressbar: bool, events: list[str]
     for rid, paths_ in sorted(by_run.items()):
         try:
             run = exports.read_export_run(paths_)
-        except exports.MocapFileError as exc:
+        except (ValueError, OSError) as exc:  # incomplete, unreadable: listed, never fatal
             excluded.append({"run_id": rid, "data_source": PUBLIC, "stage": "read",
                              "reason": str(exc)})
             continue
