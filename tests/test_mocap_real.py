@@ -345,3 +345,37 @@ def test_real_rows_are_never_pooled(published):
     assert last.steer_model_rad == pytest.approx(float(s_m), rel=1e-12)
     assert list(base["comparison"].columns) == list(validation.COMPARISON_COLUMNS)
     assert base["comparison"].empty and len(both["comparison"]) == 8
+
+
+@pytest.mark.workflow
+def test_quick_workflow_builds_the_real_row(quick_workflow):
+    # With the public subset in the data folder (CI: .ci/run copies ../shared into a temporary
+    # PEDALREPRO_DATA_DIR), the quick workflow's chapter 4 has run 3045's REAL row, its
+    # comparison with Table 4.1 and the closing note's numbers.
+    import pandas as pd
+
+    data = Path(os.environ.get(fetch.ENV, ""))
+    if not os.environ.get(fetch.ENV) or not (data / "3045_X.xlsx").is_file():
+        pytest.skip(f"{fetch.ENV} does not hold the public subset: the quick workflow builds "
+                    "chapter 4 without a real row here (CI sets it)")
+    assert quick_workflow.returncode == 0, quick_workflow.log[-3000:]
+    res = quick_workflow.results
+    t41 = pd.read_csv(res / "tables" / "table_4_1.csv")
+    real = t41[t41.data_source == "public_subset"]
+    assert len(real) == 1 and real.system.item() == "HR"
+    assert real.speed_kmh.item() == pytest.approx(25.0, abs=1e-3)
+    measured = pd.read_csv(res / "intermediate" / "mocap" / "measured.csv")
+    m = measured[measured.data_source == "public_subset"].iloc[0]
+    assert m.cadence_bin_rpm == 82.0 and m.analysis == "full"
+    # the synthetic medians are over the seven synthetic rows only
+    body = t41[t41.data_source == "synthetic"]
+    body = body[~body.system.isin(["median", "range"])]
+    med = t41[t41.system == "median"].iloc[0]
+    assert med.roll_rd_percent == pytest.approx(np.median(body.roll_rd_percent), rel=1e-5)
+    import re
+
+    html = (res / "book" / "_build" / "html" / "notebooks" / "04_validation.html").read_text()
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    assert "Run 3045 (belt" in text and "HR 20 km/h (3 of 3)" in text
+    excluded = pd.read_csv(res / "intermediate" / "mocap" / "excluded.csv")
+    assert 3101 in set(excluded.run_id)
