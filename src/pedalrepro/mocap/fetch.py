@@ -15,9 +15,10 @@ Data folder: the environment variable ``PEDALREPRO_DATA_DIR`` (:data:`ENV`), els
 ``pooch.os_cache("pedalrepro")``. Offline, put the files there (a copy of the public subset
 is enough for the real 3045 row): nothing is downloaded when a file is present with the right
 hash. Every file is checked against its hash before use; a file whose hash does not match is
-reported, removed and fetched again once (:func:`fetch`). Downloads show pooch's progress bar
-and **resume** after an interruption: the bytes received so far stay in ``<name>.part`` in the
-data folder and the next attempt asks the server for the rest (HTTP ``Range``;
+reported, removed and fetched again once (:func:`fetch`). Downloads show a progress bar (tqdm,
+as pooch's) and **resume** after an interruption: the bytes received so far stay in
+``<name>.part`` in the data folder and the next attempt asks the server for the rest (HTTP
+``Range``;
 :class:`ResumingDownloader`); one retry follows at once, a later run resumes again.
 
 Data source (config ``data_source``, :func:`resolve_source`): ``figshare`` needs the real files
