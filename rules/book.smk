@@ -2,7 +2,29 @@
 # renders HTML, strictly (warnings are errors; a failing cell fails the build: jupyter-book exits 1
 # with --keep-going once all pages are tried, and the shell rule fails with it).
 
+import json
+
 BOOK_INDEX = f"{R}/book/_build/html/index.html"
+
+
+# The configuration in effect, for the notebooks (pedalrepro.config.results_config): its params are
+# the whole config, so any change rewrites it and rebuilds the book, and nothing else.
+rule write_config:
+    input:
+        code=code_inputs("scripts/write_config.py"),
+    output:
+        CONFIG_COPY,
+    params:
+        # canonical (sorted keys): the same values in another key order are no change
+        config=json.dumps(config, sort_keys=True),
+    log:
+        logfile("write_config"),
+    message:
+        "The configuration in effect -> {output} (notebooks read this copy)"
+    script:
+        "scripts/write_config.py"
+
+
 MATHJAX = "book/_mathjax/mathjax/tex-mml-chtml.js"
 
 
@@ -27,14 +49,14 @@ rule mathjax:
 rule book:
     input:
         BOOK_INPUTS,
+        CONFIG_COPY,
         MATHJAX,
         "book/_config.yml",
         "book/_toc.yml",
-        "data/figure_ids.yaml",
         sorted(str(p) for p in Path("book").glob("*.md")),
-        sorted(str(p) for p in Path("notebooks").glob("*.ipynb")),
-        pkg("report", "evaluation"),
-        sorted(str(p) for p in Path(PKG, "figures").glob("*.py")),
+        # the notebooks, every pedalrepro module their code cells import, and the data files
+        # those modules declare (pedalrepro.dependencies)
+        code_inputs(*sorted(f"../{p}" for p in Path("notebooks").glob("*.ipynb"))),
     output:
         BOOK_INDEX,
     params:

@@ -1,12 +1,19 @@
-# Shared set-up: config validation, the results folder, and helpers naming outputs and the
-# library modules a rule imports (listed as inputs so that a physics edit reruns the rule).
+# Shared set-up: config validation (schema + cross-key rules), the results folder, helpers naming
+# outputs, and code_inputs(): the code and data inputs of a rule, computed from its script's
+# import closure (never listed by hand, so they cannot drift from the code).
 import os
 from pathlib import Path
 
 from snakemake.utils import validate
 
+from pedalrepro import config as pconfig
+from pedalrepro import dependencies
+
 
 validate(config, "../config/schema.yaml")
+# NaN/inf, sample rate vs low-pass and harmonics (Nyquist), steps below maxima, results_dir:
+# each failure names its key (pedalrepro.config.check).
+pconfig.check(config)
 
 # Every script, notebook and the book build read the results folder from this variable
 # (pedalrepro.paths.results()).
@@ -15,10 +22,46 @@ os.environ.update(PEDALREPRO_RESULTS=str(Path(R).resolve()))
 
 PKG = "src/pedalrepro"
 ROOT_DIR = Path(workflow.basedir)
+RULES_DIR = Path(workflow.basedir) / "rules"
+#: The configuration in effect, written by rule write_config; notebooks read this copy.
+CONFIG_COPY = f"{R}/config.yaml"
 
 # Filled by the rules/*.smk files: report parts and everything the book shows.
 REPORT_PARTS = []
 BOOK_INPUTS = []
+
+
+def code_inputs(*sources):
+    """The code and data inputs of a rule running ``sources`` (paths relative to rules/, like
+    ``script:``, e.g. "scripts/linear_eigen.py"; notebooks too): the files themselves, every
+    src/pedalrepro module in their import closure (imports inside functions included, package
+    __init__.py files too) and every file those modules declare in DATA_FILES
+    (pedalrepro.dependencies). Relative to the working directory, sorted."""
+    return dependencies.code_inputs(*(RULES_DIR / s for s in sources), root=ROOT_DIR)
+
+
+def cfg(section, *keys):
+    """{key: config[section][key]} for the given keys: a rule's `params:` entry, so that the rule
+    reruns exactly when one of the values it uses changes."""
+    return {k: config[section][k] for k in keys}
+
+
+def grid_params(prefix):
+    """Keyword arguments of pedalrepro.response.speed_cadence_grid for the "ps" or "time" grid."""
+    lin = config["linear"]
+    return dict(speed_step_m_s=lin[f"{prefix}_speed_step_m_s"],
+                speed_max_m_s=lin[f"{prefix}_speed_max_m_s"],
+                omega_step_rad_s=lin[f"{prefix}_omega_step_rad_s"],
+                omega_max_rad_s=lin[f"{prefix}_omega_max_rad_s"])
+
+
+# params of the linear grids and sampling (keyword arguments of the pedalrepro.response functions)
+PS_GRID = grid_params("ps")
+TIME_GRID = grid_params("time")
+EIGEN_SPEEDS = dict(step=config["linear"]["eigen_speed_step_m_s"],
+                    maximum=config["linear"]["eigen_speed_max_m_s"])
+TIME_SAMPLES = cfg("linear", "duration_s", "sample_rate_hz")
+HARMONICS = list(config["linear"]["harmonics"])
 
 
 def table(name):
@@ -42,10 +85,3 @@ def logfile(name):
 
 def bench(name):
     return f"{R}/benchmarks/{name}.tsv"
-
-
-def pkg(*modules):
-    """Source files of pedalrepro modules a rule uses (e.g. pkg("legs", "figures/section2"))."""
-    return [f"{PKG}/__init__.py", f"{PKG}/paths.py", f"{PKG}/params.py"] + [
-        f"{PKG}/{m}.py" for m in modules
-    ]

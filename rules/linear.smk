@@ -13,18 +13,37 @@ LINEAR_FIGURES = sorted(LINEAR_FIGURE_SPECS)
 # Time-solution methods drawn in fig_3_10 .. fig_3_33, fig_g_*, fig_h_*. rules/nonlinear.smk
 # (included after this file) extends it with "NT", "NP"; inputs read it lazily.
 TIME_METHODS = ["LA", "LN"]
+# The config keys figures.linear.draw reads, per drawing function (the others read files only).
+# draw() gets exactly these (params), so a key missing here fails loudly with a KeyError.
+_PS_GRID_KEYS = ["ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
+                 "ps_omega_max_rad_s"]
+LINEAR_FIGURE_KEYS = {
+    "fig_gear_grid": _PS_GRID_KEYS + ["gear_ratios", "normal_cycling_speed_kmh",
+                                      "normal_cycling_cadence_rpm", "reference_speed_m_s",
+                                      "reference_cadence_rpm"],
+    "fig_neglected_momenta": _PS_GRID_KEYS + ["harmonics", "gear_ratios"],
+    "fig_amplitude_maps": ["gear_ratios", "normal_cycling_speed_kmh",
+                           "normal_cycling_cadence_rpm"],
+    "fig_gear_sections": ["eigen_speed_step_m_s", "eigen_speed_max_m_s", "harmonics",
+                          "gear_ratios", "ps_omega_max_rad_s"],
+}
+# group -> the config keys its figures read
+LINEAR_GROUP_KEYS = {
+    g: sorted({k for f in linear_figure_group(g)
+               for k in LINEAR_FIGURE_KEYS.get(LINEAR_FIGURE_SPECS[f][0], [])})
+    for g in LINEAR_FIGURE_GROUPS
+}
 
 
 rule linear_eigen:
     input:
-        code=pkg("linear"),
-        appendix_b="data/parameters/appendix_b.yaml",
-        benchmark="data/parameters/benchmark.yaml",
+        code=code_inputs("scripts/linear_eigen.py"),
     output:
         table=table("eigen_summary"),
         sweeps=expand(interm("eigen/{model}.npz"), model=LINEAR_MODELS),
     params:
         models=LINEAR_MODELS,
+        eigen_speeds=EIGEN_SPEEDS,
     log:
         logfile("linear_eigen"),
     message:
@@ -35,12 +54,14 @@ rule linear_eigen:
 
 rule linear_ps:
     input:
-        code=pkg("linear", "response", "momentum", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_ps.py"),
     output:
         npz=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
     params:
         models=LINEAR_MODELS,
+        grid=PS_GRID,
+        harmonics=HARMONICS,
+        reference=cfg("linear", "reference_speed_m_s", "reference_cadence_rpm"),
     threads: 1
     log:
         logfile("linear_ps"),
@@ -55,13 +76,16 @@ rule linear_ps:
 # LA is exact and vectorised (seconds per model on the thesis grid): one job for all models.
 rule linear_time_la:
     input:
-        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_time.py"),
     output:
         npz=expand(interm("time/LA_{model}.npz"), model=LINEAR_TIME_MODELS),
     params:
         method="LA",
         models=LINEAR_TIME_MODELS,
+        grid=TIME_GRID,
+        samples=TIME_SAMPLES,
+        harmonics=HARMONICS,
+        fall_roll_rad=config["linear"]["fall_roll_rad"],
     threads: 1
     log:
         logfile("linear_time_LA"),
@@ -76,13 +100,17 @@ rule linear_time_la:
 # LN integrates every run (minutes per model on the thesis grid): one job per model.
 rule linear_time_ln:
     input:
-        code=pkg("linear", "response", "spectral", "evaluation", "gears", "disturbance", "legs"),
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
+        code=code_inputs("scripts/linear_time.py"),
     output:
         npz=interm("time/LN_{model}.npz"),
     params:
         method="LN",
         models=lambda wc: [wc.model],
+        grid=TIME_GRID,
+        samples=TIME_SAMPLES,
+        harmonics=HARMONICS,
+        fall_roll_rad=config["linear"]["fall_roll_rad"],
+        tolerances=cfg("linear", "rtol", "atol", "tight_rtol", "tight_atol"),
     wildcard_constraints:
         model="|".join(LINEAR_TIME_MODELS),
     threads: 1
@@ -98,7 +126,7 @@ rule linear_time_ln:
 
 rule linear_rd:
     input:
-        code=pkg("linear", "response", "evaluation", "gears", "disturbance", "legs"),
+        code=code_inputs("scripts/linear_rd.py"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_TIME_MODELS),
         la=expand(interm("time/LA_{model}.npz"), model=LINEAR_TIME_MODELS),
         ln=expand(interm("time/LN_{model}.npz"), model=LINEAR_TIME_MODELS),
@@ -108,6 +136,8 @@ rule linear_rd:
         table=table("rd_summary"),
     params:
         models=LINEAR_TIME_MODELS,
+        harmonics=HARMONICS,
+        normal_cycling=cfg("linear", "normal_cycling_speed_kmh", "normal_cycling_cadence_rpm"),
     log:
         logfile("linear_rd"),
     message:
@@ -118,11 +148,12 @@ rule linear_rd:
 
 rule linear_table_4_1:
     input:
-        code=pkg("linear", "response", "disturbance", "legs"),
+        code=code_inputs("scripts/linear_table_4_1.py"),
         runs="data/parameters/validation_runs.yaml",
-        parameters=["data/parameters/appendix_b.yaml", "data/parameters/legs.yaml"],
     output:
         table("table_4_1_model"),
+    params:
+        harmonics=HARMONICS,
     log:
         logfile("linear_table_4_1"),
     message:
@@ -133,16 +164,21 @@ rule linear_table_4_1:
 
 rule linear_report:
     input:
-        code=pkg("report", "linear", "response", "evaluation", "gears", "disturbance", "legs"),
+        code=code_inputs("scripts/linear_report.py"),
         eigen=table("eigen_summary"),
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
-        published=["data/published/thesis_values.yaml", "data/published/meijaard2007.yaml"],
+        meijaard="data/published/meijaard2007.yaml",
     output:
         f"{R}/tables/report/linear.csv",
     params:
         models=LINEAR_MODELS,
+        profile=config["profile"],
+        harmonics=HARMONICS,
+        eigen_speeds=EIGEN_SPEEDS,
+        lin=cfg("linear", "normal_cycling_speed_kmh", "normal_cycling_cadence_rpm", "gear_ratios",
+                "ps_omega_max_rad_s", "duration_s", "sample_rate_hz", "rtol", "atol"),
     log:
         logfile("linear_report"),
     message:
@@ -159,9 +195,7 @@ for _group in LINEAR_FIGURE_GROUPS:
         name:
             f"linear_figures_{_group}"
         input:
-            code=pkg("linear", "response", "momentum", "evaluation", "gears", "spectral",
-                     "disturbance", "legs", "figures/__init__", "figures/linear"),
-            style=f"{PKG}/pedalrepro.mplstyle",
+            code=code_inputs("scripts/linear_figure.py"),
             data=lambda wc, g=_group: sorted(
                 {p for f in linear_figure_group(g) for p in linear_figure_inputs(f, R, TIME_METHODS)}
             ),
@@ -169,6 +203,7 @@ for _group in LINEAR_FIGURE_GROUPS:
             png=[figure(f) for f in linear_figure_group(_group)],
         params:
             time_methods=lambda wc: list(TIME_METHODS),
+            linear=cfg("linear", *LINEAR_GROUP_KEYS[_group]),
         log:
             logfile(f"linear_figures_{_group}"),
         message:

@@ -6,26 +6,22 @@
 # here" for synthetic rows). The data folder is not a tracked input: after adding files to it,
 # rerun with `snakemake -j2 -R mocap_runs`.
 
-MOCAP_CODE = pkg(
-    "mocap/__init__", "mocap/fetch", "mocap/reader", "mocap/kinematics", "mocap/cadence",
-    "mocap/runs", "mocap/exports", "mocap/prepare", "spectral",
-)
+# The mocap keys the synthetic stand-in uses (pedalrepro.mocap.synthetic, its `mocap_cfg`).
+MOCAP_STAND_IN_KEYS = ["duration_s", "sample_rate_hz", "marker_noise_m", "gaps_per_marker_per_min",
+                       "max_gap_s", "repair_gap_max_s", "max_runs_per_system",
+                       "stand_in_gear_ratios", "stand_in_cadence_rpm"]
 MOCAP_FIGURES = [figure(f"fig_4_{n}") for n in range(2, 12)] + [figure("real_run_panel")]
 
 
 rule mocap_runs:
     input:
-        code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
-        runs_yaml="data/parameters/validation_runs.yaml",
-        public_yaml="data/parameters/public_runs.yaml",
-        registry="data/registry.txt",
-        registry_public="data/registry_public.txt",
+        code=code_inputs("scripts/mocap_runs.py"),
     output:
         runs=directory(interm("mocap/runs")),
         source=interm("mocap/source.json"),
     params:
         data_source=config["data_source"],
-        mocap=config["mocap"],
+        mocap=cfg("mocap", *MOCAP_STAND_IN_KEYS),
         seed=config["seed"],
     log:
         logfile("mocap_runs"),
@@ -41,7 +37,7 @@ rule mocap_extract:
     input:
         runs=interm("mocap/runs"),
         source=interm("mocap/source.json"),
-        code=MOCAP_CODE + pkg("mocap/synthetic", "legs", "disturbance", "response", "linear"),
+        code=code_inputs("scripts/mocap_extract.py"),
     output:
         table=interm("mocap/measured.csv"),
         series=interm("mocap/series.npz"),
@@ -64,8 +60,7 @@ rule validation_tables:
         runs=interm("mocap/runs"),
         source=interm("mocap/source.json"),
         model=table("table_4_1_model"),
-        runs_yaml="data/parameters/validation_runs.yaml",
-        code=MOCAP_CODE + pkg("validation", "report", "disturbance", "response", "linear"),
+        code=code_inputs("scripts/mocap_tables.py"),
     output:
         t41=table("table_4_1"),
         t42=table("table_4_2"),
@@ -85,10 +80,13 @@ rule validation_figures:
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
         source=interm("mocap/source.json"),
-        code=pkg("validation", "spectral", "figures/__init__", "figures/validation",
-                 "disturbance", "response", "linear"),
+        code=code_inputs("scripts/mocap_figures.py"),
     output:
         MOCAP_FIGURES,
+    params:
+        ps_grid=cfg("linear", "ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s",
+                    "ps_omega_max_rad_s"),
+        example_runs_per_system=config["mocap"]["example_runs_per_system"],
     log:
         logfile("validation_figures"),
     message:

@@ -7,13 +7,9 @@
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])
-NONLINEAR_CODE = pkg("simulate", "spectral", "response", "evaluation", "linear", "disturbance",
-                     "legs", "gears", "nonlinear/__init__", "nonlinear/model", "nonlinear/codegen",
-                     "nonlinear/numeric", "nonlinear/parameters", "nonlinear/sweep",
-                     "nonlinear/substitute", "nonlinear/arms") + [
-    f"{PKG}/nonlinear/rhs_driver.c"]
-NONLINEAR_PARAMETERS = ["data/parameters/nonlinear_models.yaml", "data/parameters/benchmark.yaml",
-                        "data/parameters/legs.yaml"]
+# Integration settings of the NT/NP runs (keyword arguments of nonlinear.sweep.RunSettings).
+NONLINEAR_SETTINGS = dict(TIME_SAMPLES, **cfg("nonlinear", "rtol", "atol", "fall_roll_rad",
+                                              "method"))
 # The linear figures draw every time method for all four models, so TIME_METHODS gains NT and NP
 # only when all four have a non-linear model (config nonlinear.models).
 if "TIME_METHODS" in globals() and set(NONLINEAR_MODELS) >= {"HS", "CF", "HR", "CR"}:
@@ -28,7 +24,7 @@ CODEGEN_VARIANTS = ["plain", "legs", "arms", "legs_arms"]
 
 rule nonlinear_codegen_variant:
     input:
-        code=NONLINEAR_CODE,
+        code=code_inputs("scripts/nonlinear_codegen.py"),
     output:
         interm("nonlinear/codegen/{variant}.txt"),
     wildcard_constraints:
@@ -60,9 +56,8 @@ rule nonlinear_codegen:
 
 rule nonlinear_linearisation:
     input:
-        code=NONLINEAR_CODE,
+        code=code_inputs("scripts/nonlinear_linearisation.py"),
         codegen=interm("nonlinear/codegen.txt"),
-        parameters=NONLINEAR_PARAMETERS + ["data/parameters/appendix_b.yaml"],
         meijaard="data/published/meijaard2007.yaml",
     output:
         benchmark=table("benchmark_linearisation"),
@@ -73,6 +68,7 @@ rule nonlinear_linearisation:
         eigen_cf_own=interm("nonlinear/eigen_cf_own.npz"),
     params:
         models=NONLINEAR_MODELS,
+        eigen_speeds=EIGEN_SPEEDS,
     log:
         logfile("nonlinear_linearisation"),
     message:
@@ -83,11 +79,15 @@ rule nonlinear_linearisation:
 
 rule nonlinear_time_chunk:
     input:
-        code=NONLINEAR_CODE,
+        code=code_inputs("scripts/nonlinear_time.py"),
         codegen=interm("nonlinear/codegen.txt"),
-        parameters=NONLINEAR_PARAMETERS,
     output:
         interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
+    params:
+        chunks=NONLINEAR_CHUNKS,
+        grid=TIME_GRID,
+        harmonics=HARMONICS,
+        settings=NONLINEAR_SETTINGS,
     wildcard_constraints:
         method="NT|NP",
         model="|".join(NONLINEAR_MODELS),
@@ -106,12 +106,16 @@ rule nonlinear_time_chunk:
 
 rule nonlinear_time:
     input:
-        code=NONLINEAR_CODE,
+        code=code_inputs("scripts/nonlinear_merge.py"),
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
     output:
         interm("time/{method}_{model}.npz"),
+    params:
+        grid=TIME_GRID,
+        harmonics=HARMONICS,
+        settings=NONLINEAR_SETTINGS,
     wildcard_constraints:
         method="NT|NP",
         model="|".join(NONLINEAR_MODELS),
@@ -128,7 +132,7 @@ rule nonlinear_time:
 
 rule nonlinear_report:
     input:
-        code=NONLINEAR_CODE + pkg("report"),
+        code=code_inputs("scripts/nonlinear_report.py"),
         benchmark=table("benchmark_linearisation"),
         appendix_b=table("linearisation_vs_appendix_b"),
         own=interm("nonlinear/linearisation_own.npz"),
@@ -143,6 +147,10 @@ rule nonlinear_report:
         maps=interm("nonlinear/rd_maps.npz"),
     params:
         models=NONLINEAR_MODELS,
+        grid=TIME_GRID,
+        samples=TIME_SAMPLES,
+        harmonics=HARMONICS,
+        fall_roll_rad=config["nonlinear"]["fall_roll_rad"],
     log:
         logfile("nonlinear_report"),
     message:
@@ -153,8 +161,7 @@ rule nonlinear_report:
 
 rule nonlinear_figure:
     input:
-        code=pkg("figures/__init__", "figures/nonlinear"),
-        style=f"{PKG}/pedalrepro.mplstyle",
+        code=code_inputs("scripts/nonlinear_figure.py"),
         maps=interm("nonlinear/rd_maps.npz"),
         appendix_b=table("linearisation_vs_appendix_b"),
         eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),

@@ -4,7 +4,7 @@
 rule reproduction_report:
     input:
         parts=REPORT_PARTS,
-        code=pkg("report"),
+        code=code_inputs("scripts/reproduction_report.py"),
     output:
         table("reproduction_report"),
     log:

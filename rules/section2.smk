@@ -7,8 +7,7 @@ SECTION2_BICYCLES = ["hybrid", "city"]
 
 rule section2_table_d_1:
     input:
-        code=pkg("legs"),
-        legs="data/parameters/legs.yaml",
+        code=code_inputs("scripts/section2_table_d_1.py"),
     output:
         table=table("table_d_1"),
     params:
@@ -24,8 +23,7 @@ rule section2_table_d_1:
 
 rule section2_disturbance:
     input:
-        code=pkg("legs", "disturbance"),
-        legs="data/parameters/legs.yaml",
+        code=code_inputs("scripts/section2_disturbance.py"),
     output:
         npz=interm("section2/disturbance_{bicycle}.npz"),
     params:
@@ -43,8 +41,7 @@ rule section2_disturbance:
 
 rule section2_numbers:
     input:
-        code=pkg("legs", "disturbance"),
-        legs="data/parameters/legs.yaml",
+        code=code_inputs("scripts/section2_numbers.py"),
     output:
         table=table("section2_numbers"),
     params:
@@ -62,8 +59,7 @@ rule section2_numbers:
 rule section2_figure:
     input:
         npz=interm("section2/disturbance_hybrid.npz"),
-        code=pkg("figures/__init__", "figures/section2"),
-        style=f"{PKG}/pedalrepro.mplstyle",
+        code=code_inputs("scripts/section2_figure.py"),
     output:
         png=figure("{fid}"),
     wildcard_constraints:
@@ -81,7 +77,7 @@ rule section2_report:
         table_d_1=table("table_d_1"),
         numbers=table("section2_numbers"),
         published="data/published/thesis_values.yaml",
-        code=pkg("report"),
+        code=code_inputs("scripts/section2_report.py"),
     output:
         report=f"{R}/tables/report/section2.csv",
     log:

@@ -31,15 +31,18 @@ def best_of(func, repeat: int) -> tuple[float, object]:
 def main(model_name: str = "HR") -> None:
     cfg = config.load()
     model = linear.linear_model(model_name)
-    h = response.forcing(model_name, cfg)
-    v, w = response.ps_grid(cfg)
+    lin = cfg["linear"]
+    h = response.forcing(model_name, lin["harmonics"])
+    v, w = response.speed_cadence_grid(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"],
+                                       lin["ps_omega_step_rad_s"], lin["ps_omega_max_rad_s"])
     t_ps, (roll, _) = best_of(lambda: response.particular_solution(
         model, v[:, None], w[None, :], h), 5)
     t_loop, (roll_loop, _) = best_of(lambda: response.particular_solution_loop(model, v, w, h), 1)
     assert np.allclose(roll, roll_loop, rtol=1e-10, atol=1e-15)
 
-    tv, tw = response.time_grid(cfg)
-    t = response.time_samples(cfg)
+    tv, tw = response.speed_cadence_grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"],
+                                         lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"])
+    t = response.time_samples(lin["duration_s"], lin["sample_rate_hz"])
     fs = cfg["linear"]["sample_rate_hz"]
     t0 = time.perf_counter()
     sol = response.analytic_time_solution(model, tv, tw, h, t, cfg["linear"]["fall_roll_rad"])

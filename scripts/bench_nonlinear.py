@@ -45,7 +45,7 @@ def main() -> None:
     print(f"thesis profile: {settings.duration_s:g} s at {settings.sample_rate_hz:g} Hz, "
           f"rtol {settings.rtol:g}, atol {settings.atol:g}")
     for name in args.models:
-        h = response.forcing(name, cfg)
+        h = response.forcing(name, cfg["linear"]["harmonics"])
         sweep.np_model(name, 6.0)  # build/load the cached code outside the timings
         for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
             sim, dt = timed(sweep.run, "NP", name, 6.0, 6.0, h, s)
@@ -60,13 +60,15 @@ def main() -> None:
     if args.single_only:
         return
 
-    v, w = response.time_grid(cfg)
+    lin = cfg["linear"]
+    v, w = response.speed_cadence_grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"],
+                                       lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"])
     # zero cadence needs no run (no forcing): sample and count only the forced points
     w_forced = w[w > 0]
     vs, ws = v[:: args.sample_stride], w_forced[:: args.sample_stride]
     per_run = []
     for name in cfg["nonlinear"]["models"]:
-        hm = response.forcing(name, cfg)
+        hm = response.forcing(name, lin["harmonics"])
         for method in sweep.METHODS:
             out, dt = timed(sweep.grid_runs, method, name, vs, ws, hm, settings)
             n = vs.size * ws.size

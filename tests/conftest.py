@@ -21,7 +21,11 @@ def quick_workflow():
     folder (``results/pytest_quick``, or ``$PEDALREPRO_TEST_RESULTS``; kept, not wiped, when
     ``PEDALREPRO_TEST_KEEP_RESULTS=1``).
 
-    Returns a namespace: results, returncode, log, elapsed_s."""
+    Every pedalrepro process of the run records the files and modules it reads into
+    ``<results>.trace/`` (``PEDALREPRO_TRACE``, pedalrepro._trace; checked by
+    tests/test_change_tracking.py).
+
+    Returns a namespace: results, returncode, log, elapsed_s, trace."""
     import os
     import shutil
     import subprocess
@@ -48,11 +52,15 @@ def quick_workflow():
         results = results.parent / f"{results.name}_{os.getpid()}"
         lock = results.parent / f"{results.name}.pid"
     lock.write_text(str(os.getpid()))
-    if results.exists() and os.environ.get("PEDALREPRO_TEST_KEEP_RESULTS") != "1":
-        shutil.rmtree(results)
+    trace = results.parent / f"{results.name}.trace"
+    if os.environ.get("PEDALREPRO_TEST_KEEP_RESULTS") != "1":
+        for folder in (results, trace):
+            if folder.exists():
+                shutil.rmtree(folder)
     env = dict(os.environ)
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
     env.pop("PEDALREPRO_RESULTS", None)
+    env["PEDALREPRO_TRACE"] = str(trace)
     cmd = [sys.executable, "-m", "snakemake", "-j2", "--configfile", "config/quick.yaml",
            "--config", f"results_dir={results}"]
     start = time.perf_counter()
@@ -61,4 +69,57 @@ def quick_workflow():
     log = proc.stdout + proc.stderr
     (results.parent / f"{results.name}.snakemake.log").write_text(
         f"$ {' '.join(cmd)}\n# {elapsed:.1f} s, exit {proc.returncode}\n{log}")
-    return SimpleNamespace(results=results, returncode=proc.returncode, log=log, elapsed_s=elapsed)
+    return SimpleNamespace(results=results, returncode=proc.returncode, log=log, elapsed_s=elapsed,
+                           trace=trace)
+
+
+# --- The symbolic non-linear models: derived once into ~/.cache/pedalrepro (2-4 min CPU on a
+# --- cold cache). Tests whose module imports pedalrepro.nonlinear (directly or through the
+# --- library; pedalrepro.dependencies) first warm the cache here, saying what they derive, so
+# --- no "unit" test silently pays the derivation.
+_WARMED: set[str] = set()
+
+
+def _needs_nonlinear_models(test_file) -> bool:
+    from pathlib import Path
+
+    from pedalrepro import dependencies
+
+    codegen = dependencies.PACKAGE_DIR / "nonlinear" / "codegen.py"
+    return codegen in dependencies.import_closure([Path(str(test_file))])
+
+
+@pytest.fixture(scope="session")
+def nonlinear_cache(request):
+    """Derive and compile every missing symbolic model variant (plain, legs, arms, legs + arms),
+    printing each one; returns the cache folder. A warm cache costs file look-ups only."""
+    import time
+
+    from pedalrepro.nonlinear import codegen, model
+
+    capture = request.config.pluginmanager.getplugin("capturemanager")
+    for legs in (False, True):
+        for arms in (False, True):
+            options = model.ModelOptions(legs=legs, arms=arms)
+            if (codegen.cache_dir() / f"{codegen.cache_key(options)}.py").exists():
+                continue
+            with capture.global_and_fixture_disabled():
+                print(f"\n[nonlinear_cache] deriving {options.key()} into {codegen.cache_dir()} "
+                      "(once; about 10-120 s)...", flush=True)
+            start = time.perf_counter()
+            codegen.generated_source(options)
+            codegen.compiled_library(options)
+            with capture.global_and_fixture_disabled():
+                print(f"[nonlinear_cache] {options.key()} done in "
+                      f"{time.perf_counter() - start:.0f} s", flush=True)
+    return codegen.cache_dir()
+
+
+@pytest.fixture(autouse=True)
+def _warm_nonlinear_models(request):
+    """Request :func:`nonlinear_cache` for tests in modules reaching pedalrepro.nonlinear."""
+    path = str(request.node.fspath)
+    if path not in _WARMED:
+        _WARMED.add(path)
+        if _needs_nonlinear_models(path):
+            request.getfixturevalue("nonlinear_cache")

@@ -157,8 +157,8 @@ def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProc
     """The repository's book rule (rules/book.smk) on a temporary copy whose book holds only the
     introduction and one notebook with ``cell_source``."""
     root = tmp_path / "repo"
-    for rel in ("rules/common.smk", "rules/book.smk", "package.json", "package-lock.json",
-                "data/figure_ids.yaml"):
+    for rel in ("rules/common.smk", "rules/book.smk", "rules/scripts/write_config.py",
+                "package.json", "package-lock.json", "data/figure_ids.yaml"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(paths.ROOT / rel, root / rel)
     shutil.copytree(paths.CONFIG, root / "config")

@@ -8,8 +8,7 @@ import pandas as pd
 from pedalrepro import linear, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
-speeds = response.eigen_speeds(cfg)
+speeds = response.grid(**snakemake.params.eigen_speeds)
 rows = []
 for name, path in zip(snakemake.params.models, snakemake.output.sweeps, strict=True):
     model = linear.linear_model(name)

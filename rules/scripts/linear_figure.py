@@ -13,6 +13,6 @@ sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 for png in snakemake.output.png:
     fid = Path(png).stem
     with figures.style():
-        fig = linear_figures.draw(fid, snakemake.config, snakemake.params.time_methods)
+        fig = linear_figures.draw(fid, snakemake.params.linear, snakemake.params.time_methods)
         figures.save(fig, png)
     print(f"{fid}: {png}", file=sys.stderr)

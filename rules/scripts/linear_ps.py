@@ -7,17 +7,16 @@ import numpy as np
 from pedalrepro import linear, momentum, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
+ref = snakemake.params.reference
 for name, path in zip(snakemake.params.models, snakemake.output.npz, strict=True):
     model = linear.linear_model(name)
-    h = response.forcing(name, cfg)
-    v, w = response.ps_grid(cfg)
+    h = response.forcing(name, snakemake.params.harmonics)
+    v, w = response.speed_cadence_grid(**snakemake.params.grid)
     roll, steer = response.particular_solution(model, v[:, None], w[None, :], h)
     h1 = int(np.nonzero(h.n == 1)[0][0])
     cam_roll, cam_steer = momentum.cam_amplitude(model, h)
-    lin = cfg["linear"]
-    ref_r, ref_s = response.particular_solution(model, lin["reference_speed_m_s"],
-                                                lin["reference_cadence_rpm"] * np.pi / 30, h)
+    ref_r, ref_s = response.particular_solution(model, ref["reference_speed_m_s"],
+                                                ref["reference_cadence_rpm"] * np.pi / 30, h)
     np.savez(path, speed_m_s=v, omega_rad_s=w, n=h.n, roll=roll, steer=steer,
              roll_amp_rad=np.abs(roll[..., h1]), steer_amp_rad=np.abs(steer[..., h1]),
              roll_phase_rad=np.angle(roll[..., h1]), steer_phase_rad=np.angle(steer[..., h1]),

@@ -13,7 +13,7 @@ import pandas as pd
 from pedalrepro import evaluation, gears, spectral
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-lin = snakemake.config["linear"]
+lin = snakemake.params.normal_cycling
 models = list(snakemake.params.models)
 ps = {m: dict(np.load(p)) for m, p in zip(models, snakemake.input.ps, strict=True)}
 la = {m: dict(np.load(p)) for m, p in zip(models, snakemake.input.la, strict=True)}
@@ -43,7 +43,7 @@ for m, path in zip(models, snakemake.output.maps, strict=True):
     # PS at the time grid (for 3b): rows/cols of the PS solved again exactly at the time grid
     from pedalrepro import linear, response
 
-    h = response.forcing(m, snakemake.config)
+    h = response.forcing(m, snakemake.params.harmonics)
     k = int(np.nonzero(h.n == 1)[0][0])
     r_t, s_t = response.particular_solution(linear.linear_model(m), vt[:, None], wt[None, :], h)
     ps_t = {"roll": np.abs(r_t[..., k]), "steer": np.abs(s_t[..., k])}

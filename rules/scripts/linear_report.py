@@ -9,13 +9,13 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pedalrepro import evaluation, gears, linear, params, paths, report, response
+from pedalrepro import evaluation, gears, linear, params, report, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
-lin = cfg["linear"]
+lin = snakemake.params.lin
+profile = snakemake.params.profile
 pub = params.published()
-meij = params.read_yaml(paths.PUBLISHED / "meijaard2007.yaml")
+meij = params.read_yaml(snakemake.input.meijaard)
 claims = pub["scalar_claims"]
 eig = pd.read_csv(snakemake.input.eigen).set_index("model")
 rd = pd.read_csv(snakemake.input.rd)
@@ -112,9 +112,9 @@ c = claim("3.2.5", "gear ratios 1-4")
 for m in ("HS", "CF", "HR", "CR"):
     if m not in ps:
         continue
-    h = response.forcing(m, cfg)
+    h = response.forcing(m, snakemake.params.harmonics)
     r_wheel = gears.wheel_radius_m(linear.bicycle_of(m))
-    v = response.eigen_speeds(cfg)[1:]
+    v = response.grid(**snakemake.params.eigen_speeds)[1:]
     peak = 0.0
     from pedalrepro.figures.linear import gear_section
 
@@ -153,7 +153,7 @@ for point, text, region in (("2b", "dropping", "self-stable"), ("3b", "DFT", "se
                 continue
             range_claim(f"RD {point} {m} {coord}", c["section"], lo, hi, row,
                         f"over the {region} region of the time grid; profile "
-                        f"{cfg['profile']}: {lin['duration_s']:g} s runs at "
+                        f"{profile}: {lin['duration_s']:g} s runs at "
                         f"{lin['sample_rate_hz']:g} Hz (the RD shrinks with the run length)")
 c = claim("3.2.4 3a", "numerical")
 for m in ("HS", "CF", "HR", "CR"):
@@ -168,7 +168,7 @@ for m in ("HS", "CF", "HR", "CR"):
                       f"{row['max_percent']:.3g}) %", "same order of magnitude (x/10 .. x10)",
                       report.REPRODUCED if ok else report.DIFFERS,
                       f"ode45-like RK45, rtol {lin['rtol']:g}, atol {lin['atol']:g}; profile "
-                      f"{cfg['profile']}: {lin['duration_s']:g} s runs"))
+                      f"{profile}: {lin['duration_s']:g} s runs"))
 c = claim("3.2.4 1c", "conservation")
 lo, hi = c["value_percent"]
 for m in ("HS", "CF", "HR", "CR"):

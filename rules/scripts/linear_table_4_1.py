@@ -8,15 +8,15 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pedalrepro import linear, params, paths, response
+from pedalrepro import linear, params, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-runs = params.read_yaml(paths.PARAMETERS / "validation_runs.yaml")["table_4_1"]
+runs = params.read_yaml(snakemake.input.runs)["table_4_1"]
 rows = []
 for run in runs:
     system = run["system"]
     model = linear.linear_model(system)
-    h = response.forcing(system, snakemake.config)
+    h = response.forcing(system, snakemake.params.harmonics)
     k = int(np.nonzero(h.n == 1)[0][0])
     r, s = response.particular_solution(model, run["speed_kmh"] / 3.6,
                                         run["cadence_rpm"] * np.pi / 30, h)

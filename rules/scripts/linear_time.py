@@ -14,19 +14,19 @@ import numpy as np
 from pedalrepro import evaluation, linear, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
-lin = cfg["linear"]
 method = snakemake.params.method
-v, w = response.time_grid(cfg)
-t = response.time_samples(cfg)
-fs = lin["sample_rate_hz"]
-fall = lin["fall_roll_rad"]
+v, w = response.speed_cadence_grid(**snakemake.params.grid)
+t = response.time_samples(**snakemake.params.samples)
+fs = snakemake.params.samples["sample_rate_hz"]
+fall = snakemake.params.fall_roll_rad
+# LN only: ode tolerances of the sweep and of the example-point check (config linear.*tol)
+lin = snakemake.params.tolerances if method == "LN" else {}
 
 
 def time_solutions(name: str) -> dict:
     """Every array of one model's time-solution file."""
     model = linear.linear_model(name)
-    h = response.forcing(name, cfg)
+    h = response.forcing(name, snakemake.params.harmonics)
     h1 = response.select(h, (1,))
     pts = evaluation.example_points(name)
 

@@ -15,7 +15,7 @@ reason = "" if source["data_source"] == "figshare" else source["reason"]
 per_run_all = pd.read_csv(snakemake.input.per_run)
 per_run = per_run_all[per_run_all.data_source == source["data_source"]]  # never pooled
 series = np.load(snakemake.input.series)
-lin = snakemake.config["linear"]
+lin = snakemake.params.ps_grid
 v = np.arange(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"] + 1e-9, lin["ps_speed_step_m_s"])
 w = np.arange(lin["ps_omega_step_rad_s"], lin["ps_omega_max_rad_s"] + 1e-9,
               lin["ps_omega_step_rad_s"])
@@ -24,7 +24,7 @@ for system in params.MODELS:
     r, s = validation.ps_map(system, v, w)
     maps[system] = fv.PSMap(v, w, r, s)
 out = {p.split("/")[-1].removesuffix(".png"): p for p in snakemake.output}
-n_ex = int(snakemake.config["mocap"]["example_runs_per_system"])
+n_ex = int(snakemake.params.example_runs_per_system)
 for system in params.MODELS:
     examples = []
     for _, row in validation.example_runs(per_run, system, n_ex).iterrows():

@@ -65,7 +65,7 @@ pd.DataFrame(records, columns=["model", "compared", "matrix", "i", "j", "project
                                "rel_diff"]).to_csv(snakemake.output.appendix_b, index=False)
 # Fig E.1: the project's CF with the 0.72 m and the original 0.77 m seat post, eigenvalues on
 # the linear eigen grid
-speeds = response.eigen_speeds(snakemake.config)
+speeds = response.grid(**snakemake.params.eigen_speeds)
 
 
 def save_eigen(path, lin):

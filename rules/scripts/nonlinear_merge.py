@@ -11,9 +11,8 @@ from pedalrepro import evaluation, response
 from pedalrepro.nonlinear import sweep
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
 method, name = snakemake.wildcards.method, snakemake.wildcards.model
-v, w = response.time_grid(cfg)
+v, w = response.speed_cadence_grid(**snakemake.params.grid)
 parts = [np.load(p) for p in snakemake.input.chunks]
 out = {k: np.concatenate([p[k] for p in parts]) for k in
        ("roll_amp_rad", "steer_amp_rad", "t_end_s", "fell", "n_rhs")}
@@ -21,10 +20,10 @@ order = np.concatenate([p["speed_index"] for p in parts])
 if not np.array_equal(np.sort(order), np.arange(v.size)):
     raise ValueError(f"chunks of {method}_{name} do not cover the speed grid")
 out = {k: a[np.argsort(order)] for k, a in out.items()}
-settings = sweep.RunSettings.from_config(cfg)
-h = response.forcing(name, cfg)
+settings = sweep.RunSettings(**snakemake.params.settings)
+h = response.forcing(name, snakemake.params.harmonics)
 pts = evaluation.example_points(name)
-t = response.time_samples(cfg)
+t = response.time_samples(settings.duration_s, settings.sample_rate_hz)
 ex_roll = np.full((pts.speed_m_s.size, t.size), np.nan)
 ex_steer = np.full_like(ex_roll, np.nan)
 ex_end = np.zeros(pts.speed_m_s.size)

@@ -16,7 +16,6 @@ import yaml
 from pedalrepro import evaluation, linear, params, report, response
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
 pub = params.published()
 meijaard = yaml.safe_load(open(snakemake.input.meijaard))
 own = np.load(snakemake.input.own)
@@ -41,17 +40,17 @@ rows.append(report.Row(
     "SymBRiM Whipple model, complex-step linearisation (the thesis: SPACAR, 1e-13)"))
 
 # own linear models and amplitude maps
-v, w = response.time_grid(cfg)
-t = response.time_samples(cfg)
-fs = cfg["linear"]["sample_rate_hz"]
+v, w = response.speed_cadence_grid(**snakemake.params.grid)
+t = response.time_samples(**snakemake.params.samples)
+fs = snakemake.params.samples["sample_rate_hz"]
 rd = {}
 maps = {"speed_m_s": v, "omega_rad_s": w}
 for name in models:
     lm = params.LinearModel(name, *(own[f"{name}_{k}"] for k in ("M", "C1", "K0", "K2")))
-    h = response.forcing(name, cfg)
+    h = response.forcing(name, snakemake.params.harmonics)
     nt = np.load(snakemake.input.time[models.index(name) * 2])
     npp = np.load(snakemake.input.time[models.index(name) * 2 + 1])
-    ln = response.analytic_time_solution(lm, v, w, h, t, cfg["nonlinear"]["fall_roll_rad"])
+    ln = response.analytic_time_solution(lm, v, w, h, t, snakemake.params.fall_roll_rad)
     ln_roll, ln_steer = response.cadence_amplitudes(ln, fs, "hann")
     ps_roll, ps_steer = response.particular_solution(lm, v[:, None], w[None, :], h)
     ps_roll, ps_steer = np.abs(ps_roll[..., 0]), np.abs(ps_steer[..., 0])

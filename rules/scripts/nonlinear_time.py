@@ -9,13 +9,12 @@ from pedalrepro import response
 from pedalrepro.nonlinear import sweep
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
-cfg = snakemake.config
 method, name = snakemake.wildcards.method, snakemake.wildcards.model
-chunk, n_chunks = int(snakemake.wildcards.chunk), int(cfg["nonlinear"]["chunks"])
-v, w = response.time_grid(cfg)
+chunk, n_chunks = int(snakemake.wildcards.chunk), int(snakemake.params.chunks)
+v, w = response.speed_cadence_grid(**snakemake.params.grid)
 idx = np.array_split(np.arange(v.size), n_chunks)[chunk]
-settings = sweep.RunSettings.from_config(cfg)
-h = response.forcing(name, cfg)
+settings = sweep.RunSettings(**snakemake.params.settings)
+h = response.forcing(name, snakemake.params.harmonics)
 start = time.perf_counter()
 out = sweep.grid_runs(method, name, v[idx], w, h, settings)
 elapsed = time.perf_counter() - start

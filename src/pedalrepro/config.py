@@ -1,22 +1,63 @@
-"""Workflow configuration: load ``config/*.yaml`` and validate it against ``config/schema.yaml``.
+"""Workflow configuration: load ``config/*.yaml``, validate it, and write the copy in effect.
 
-The Snakefile validates with ``snakemake.utils.validate`` against the same schema; this module
-serves the library, the CLI and notebooks.
+Validation has two layers, both run at workflow start (``rules/common.smk``) and by :func:`load`:
+
+1. ``config/schema.yaml`` (JSON schema): every key required, types and ranges, each key with a
+   ``description``;
+2. :func:`check`: what a JSON schema cannot say -- no NaN or infinity (YAML's ``.nan`` and
+   ``.inf`` are numbers to a JSON schema), sample rates above twice the highest frequency they
+   must resolve (Nyquist), grid steps below their maxima, and a results folder that is not a
+   system folder. Every failure names its key.
+
+The workflow writes the configuration in effect to ``<results>/config.yaml`` (rule
+``write_config``); notebooks read that copy with :func:`results_config`, so a quick build shows
+the quick profile's values.
 """
 
 from __future__ import annotations
 
+import math
+import os
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import jsonschema
+import yaml
 
 from . import paths
-from .params import read_yaml
+
+DATA_FILES = ("config/schema.yaml",)
+
+#: Folders the results may never be written to (nor the repository root or $HOME itself).
+SYSTEM_ROOTS: tuple[str, ...] = ("/", "/bin", "/boot", "/dev", "/etc", "/home", "/lib",
+                                 "/lib64", "/opt", "/proc", "/root", "/run", "/sbin", "/srv",
+                                 "/sys", "/tmp", "/usr", "/var")
+#: (step key, maximum key) pairs of config section ``linear``: each step below its maximum.
+STEP_MAXIMA: tuple[tuple[str, str], ...] = (
+    ("ps_omega_step_rad_s", "ps_omega_max_rad_s"), ("ps_speed_step_m_s", "ps_speed_max_m_s"),
+    ("time_omega_step_rad_s", "time_omega_max_rad_s"),
+    ("time_speed_step_m_s", "time_speed_max_m_s"),
+    ("eigen_speed_step_m_s", "eigen_speed_max_m_s"))
 
 
 class ConfigError(ValueError):
-    """A configuration value outside the schema."""
+    """A configuration value outside the schema or the cross-key rules (the message names it)."""
+
+
+def read_yaml(path: str | Path) -> dict[str, Any]:
+    """A YAML mapping, with an error naming the file (not pedalrepro.params.read_yaml: importing
+    params would make the parameter files inputs of rule write_config)."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise FileNotFoundError(f"configuration file not found: {path}") from None
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"cannot parse YAML file {path}: {exc}") from exc
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: expected a mapping at the top level")
+    return data
 
 
 def validate(config: dict[str, Any], schema_path: str | Path | None = None) -> dict[str, Any]:
@@ -28,9 +69,101 @@ def validate(config: dict[str, Any], schema_path: str | Path | None = None) -> d
     validator = jsonschema.Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(config), key=lambda e: list(e.absolute_path))
     if errors:
-        lines = [f"  {'/'.join(map(str, e.absolute_path)) or '<top>'}: {e.message}" for e in errors]
+        lines = [f"  {'/'.join(map(str, e.absolute_path)) or '<top>'}: {e.message}"
+                 for e in errors]
         raise ConfigError("configuration does not match config/schema.yaml:\n" + "\n".join(lines))
     return config
+
+
+def _numbers(value: Any, key: str = "") -> Iterator[tuple[str, float]]:
+    """Every float in a nested config, with its dotted key (list items as ``key[i]``)."""
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            yield from _numbers(v, f"{key}.{k}" if key else str(k))
+    elif isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            yield from _numbers(v, f"{key}[{i}]")
+    elif isinstance(value, float):
+        yield key, value
+
+
+def check_results_dir(results_dir: str, root: str | Path = paths.ROOT,
+                      home: str | Path | None = None) -> Path:
+    """The results folder resolved against ``root``; :class:`ConfigError` naming ``results_dir``
+    when it is a system folder (:data:`SYSTEM_ROOTS`), ``$HOME`` itself or the repository
+    root, an existing file, or when its nearest existing parent is not writable."""
+    path = Path(os.path.expanduser(results_dir))
+    path = (path if path.is_absolute() else Path(root) / path).resolve()
+    home = Path(home if home is not None else os.path.expanduser("~")).resolve()
+    forbidden = {Path(p).resolve() for p in SYSTEM_ROOTS} | {home, Path(root).resolve()}
+    if path in forbidden:
+        raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, a system folder, "
+                          "$HOME or the repository root; choose a folder inside one, e.g. "
+                          "'results' or '/scratch/<you>/pedalrepro'")
+    if path.exists() and not path.is_dir():
+        raise ConfigError(f"results_dir: {path} exists and is not a folder")
+    parent = path
+    while not parent.exists():
+        parent = parent.parent
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ConfigError(f"results_dir: {results_dir!r} ({path}) cannot be created or written: "
+                          f"{parent} is not writable")
+    return path
+
+
+def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
+    """The cross-key rules a JSON schema cannot express; :class:`ConfigError` naming the key.
+
+    * no NaN or infinity anywhere;
+    * ``linear.sample_rate_hz`` above twice the highest harmonic frequency of the time grid,
+      ``max(linear.harmonics) * linear.time_omega_max_rad_s / 2 pi`` (Nyquist: the DFT amplitudes
+      of Sec 3.1.2.1 would alias);
+    * ``linear.duration_s`` at least one period of the smallest non-zero cadence of the time grid
+      (``2 pi / linear.time_omega_step_rad_s``): the DFT needs a whole period;
+    * ``section2.harmonics`` below half of ``section2.samples_per_revolution`` (Nyquist);
+    * ``mocap.angle_lowpass_hz`` (when not 0) below half of ``mocap.sample_rate_hz``;
+    * each grid step of :data:`STEP_MAXIMA` below its maximum, and each
+      ``linear.normal_cycling_*`` range increasing;
+    * ``results_dir`` as :func:`check_results_dir`.
+    """
+    errors = [f"{key}: {value!r} is not a finite number" for key, value in _numbers(config)
+              if not math.isfinite(value)]
+    if errors:
+        raise ConfigError("configuration has non-finite values:\n  " + "\n  ".join(errors))
+    lin, s2, mocap = config["linear"], config["section2"], config["mocap"]
+    f_max_hz = max(lin["harmonics"]) * lin["time_omega_max_rad_s"] / (2 * math.pi)
+    if not lin["sample_rate_hz"] > 2 * f_max_hz:
+        errors.append(
+            f"linear.sample_rate_hz: {lin['sample_rate_hz']:g} Hz is not above twice the highest "
+            f"harmonic frequency of the time grid, max(linear.harmonics) * "
+            f"linear.time_omega_max_rad_s / 2 pi = {f_max_hz:.4g} Hz (Nyquist: amplitudes "
+            "would alias)")
+    period_s = 2 * math.pi / lin["time_omega_step_rad_s"]
+    if lin["duration_s"] < period_s:
+        errors.append(f"linear.duration_s: {lin['duration_s']:g} s is shorter than one period "
+                      f"({period_s:.4g} s) of the smallest non-zero cadence "
+                      "linear.time_omega_step_rad_s")
+    if not s2["harmonics"] < s2["samples_per_revolution"] / 2:
+        errors.append(f"section2.harmonics: {s2['harmonics']} is not below half of "
+                      f"section2.samples_per_revolution ({s2['samples_per_revolution']}; "
+                      "Nyquist)")
+    if mocap["angle_lowpass_hz"] and not mocap["angle_lowpass_hz"] < mocap["sample_rate_hz"] / 2:
+        errors.append(f"mocap.angle_lowpass_hz: {mocap['angle_lowpass_hz']:g} Hz is not below "
+                      f"half of mocap.sample_rate_hz ({mocap['sample_rate_hz']:g} Hz; Nyquist)")
+    for step, maximum in STEP_MAXIMA:
+        if not lin[step] < lin[maximum]:
+            errors.append(f"linear.{step}: {lin[step]:g} is not below linear.{maximum} "
+                          f"({lin[maximum]:g})")
+    for key in ("normal_cycling_speed_kmh", "normal_cycling_cadence_rpm"):
+        lo, hi = lin[key]
+        if not lo < hi:
+            errors.append(f"linear.{key}: [{lo:g}, {hi:g}] is not an increasing range")
+    try:
+        check_results_dir(config["results_dir"], root)
+    except ConfigError as exc:
+        errors.append(str(exc))
+    if errors:
+        raise ConfigError("configuration fails its cross-key rules:\n  " + "\n  ".join(errors))
 
 
 def load(path: str | Path | None = None, *overrides: str | Path) -> dict[str, Any]:
@@ -46,7 +179,9 @@ def load(path: str | Path | None = None, *overrides: str | Path) -> dict[str, An
     config = read_yaml(path or paths.CONFIG / "config.yaml")
     for extra in overrides:
         config = merge(config, read_yaml(extra))
-    return validate(config)
+    validate(config)
+    check(config)
+    return config
 
 
 def merge(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
@@ -58,3 +193,35 @@ def merge(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
         else:
             out[key] = value
     return out
+
+
+def write(config: Mapping[str, Any], path: str | Path) -> Path:
+    """Write the configuration in effect as YAML (keys in the order given)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", encoding="utf-8") as fh:
+        fh.write("# The configuration this results folder was built with (written by the "
+                 "workflow; do not edit).\n")
+        yaml.safe_dump(_plain(config), fh, sort_keys=False, default_flow_style=None)
+    return path
+
+
+def _plain(value: Any) -> Any:
+    """Snakemake's config mappings and lists as plain dicts and lists (for yaml.safe_dump)."""
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
+def results_config(results: str | Path | None = None) -> dict[str, Any]:
+    """The configuration a results folder was built with (``<results>/config.yaml``).
+
+    Notebooks read this copy, never ``config/config.yaml``, so that what they show matches the
+    results (quick or thesis profile). ``results`` defaults to :func:`pedalrepro.paths.results`.
+    """
+    path = Path(results if results is not None else paths.results()) / "config.yaml"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path} not found: run the workflow (rule write_config) first")
+    return read_yaml(path)

@@ -18,6 +18,11 @@ import yaml
 
 from . import paths
 
+#: Files read under a computed name (``_parameter_file(name)``; see pedalrepro.dependencies):
+#: the rules importing this module rerun when one of them changes.
+DATA_FILES: tuple[str, ...] = ("data/parameters/appendix_b.yaml", "data/parameters/benchmark.yaml",
+                               "data/parameters/browser.yaml", "data/parameters/legs.yaml",
+                               "data/parameters/stratos.yaml")
 #: Thesis model names (Sec 3.1.1.3): H = hybrid (Batavus Stratos), C = city (Batavus Browser);
 #: S = straight arms on the handlebars, F = flexed arms, R = rigid upper body, hands free.
 MODELS: tuple[str, ...] = ("HS", "CF", "HR", "CR")

@@ -16,6 +16,7 @@ event.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -366,41 +367,33 @@ def grid(step: float, maximum: float) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
-# Grids and forcing from the workflow configuration (config/config.yaml, section ``linear``)
+# Grids, sampling and forcing (arguments: config section ``linear``, passed by the rules as params)
 # --------------------------------------------------------------------------------------------
 
-def ps_grid(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
-    """Particular-solution grid (Sec 3.1.2.2.1): speeds (m/s) and cadences (rad/s)."""
-    lin = cfg["linear"]
-    return (grid(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"]),
-            grid(lin["ps_omega_step_rad_s"], lin["ps_omega_max_rad_s"]))
+def speed_cadence_grid(speed_step_m_s: float, speed_max_m_s: float, omega_step_rad_s: float,
+                       omega_max_rad_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """Speeds (m/s) and cadences (rad/s) ``0:step:max`` of the particular-solution grid
+    (Sec 3.1.2.2.1; config ``linear.ps_*``) or the time-solution grid (Sec 3.1.2.1;
+    ``linear.time_*``)."""
+    return grid(speed_step_m_s, speed_max_m_s), grid(omega_step_rad_s, omega_max_rad_s)
 
 
-def time_grid(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
-    """Time-solution grid (Sec 3.1.2.1): speeds (m/s) and cadences (rad/s)."""
-    lin = cfg["linear"]
-    return (grid(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"]),
-            grid(lin["time_omega_step_rad_s"], lin["time_omega_max_rad_s"]))
+def time_samples(duration_s: float, sample_rate_hz: float) -> np.ndarray:
+    """Sample times ``0 .. duration_s`` at ``sample_rate_hz`` (config ``linear.duration_s``,
+    ``linear.sample_rate_hz``)."""
+    dt = 1.0 / sample_rate_hz
+    return np.arange(int(round(duration_s / dt)) + 1) * dt
 
 
-def time_samples(cfg: dict) -> np.ndarray:
-    """Sample times ``0 .. duration_s`` at ``sample_rate_hz``."""
-    lin = cfg["linear"]
-    dt = 1.0 / lin["sample_rate_hz"]
-    return np.arange(int(round(lin["duration_s"] / dt)) + 1) * dt
+def forcing(model: str, harmonics: Sequence[int] | None = None):
+    """Pedalling torque harmonics (Eq 3.14) acting on a model (its bicycle's legs).
 
-
-def eigen_speeds(cfg: dict) -> np.ndarray:
-    """Speed grid of the eigenvalue sweeps."""
-    lin = cfg["linear"]
-    return grid(lin["eigen_speed_step_m_s"], lin["eigen_speed_max_m_s"])
-
-
-def forcing(model: str, cfg: dict | None = None, harmonics: tuple[int, ...] | None = None):
-    """Pedalling torque harmonics (Eq 3.14) acting on a model (its bicycle's legs)."""
+    ``harmonics``: the multiples of the cadence kept (config ``linear.harmonics``; default
+    ``(1, 3, 5)``, the thesis's T(w, 3w, 5w)).
+    """
     from . import disturbance
     from .linear import bicycle_of
 
     if harmonics is None:
-        harmonics = tuple(cfg["linear"]["harmonics"]) if cfg else (1, 3, 5)
+        harmonics = (1, 3, 5)
     return disturbance.torque_harmonics(bicycle_of(model), harmonics=tuple(harmonics))

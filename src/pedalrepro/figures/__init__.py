@@ -14,6 +14,9 @@ import matplotlib
 
 from .. import paths
 
+#: Read through ``paths.STYLE`` (see pedalrepro.dependencies).
+DATA_FILES: tuple[str, ...] = ("src/pedalrepro/pedalrepro.mplstyle",)
+
 
 @contextmanager
 def style():

@@ -638,25 +638,30 @@ def _load(path) -> dict:
         return {k: d[k] for k in d.files}
 
 
-def draw(fid: str, cfg: Mapping, time_methods: Sequence[str] | None = None) -> Figure:
+def draw(fid: str, lin: Mapping, time_methods: Sequence[str] | None = None) -> Figure:
     """Draw figure ``fid`` of the linear part from the files under ``results/``.
 
     Parameters
     ----------
     fid
         A key of :data:`FIGURE_SPECS`.
-    cfg
-        The workflow configuration (``pedalrepro.config.load()``).
+    lin
+        Values of config section ``linear`` the figures use: ``ps_*`` grid, ``eigen_speed_*``,
+        ``harmonics``, ``gear_ratios``, ``normal_cycling_*``, ``reference_*`` (the rule passes
+        exactly these as params; notebooks pass ``config.results_config()["linear"]``).
     time_methods
         Methods whose time-solution files to read; default: every method whose file exists.
     """
     from .. import disturbance, momentum
-    from ..response import eigen_speeds, forcing, ps_grid, select
+    from ..response import forcing, grid, select, speed_cadence_grid
 
     if fid not in FIGURE_SPECS:
         raise KeyError(f"{fid!r} is not a figure of the linear part")
     func, kw = FIGURE_SPECS[fid]
-    lin = cfg.get("linear", {})
+
+    def ps_grid():
+        return speed_cadence_grid(lin["ps_speed_step_m_s"], lin["ps_speed_max_m_s"],
+                                  lin["ps_omega_step_rad_s"], lin["ps_omega_max_rad_s"])
     models = spec_models(fid)
     needs = NEEDS[func]
     fn = globals()[func]
@@ -671,7 +676,7 @@ def draw(fid: str, cfg: Mapping, time_methods: Sequence[str] | None = None) -> F
         return out
 
     if func == "fig_gear_grid":
-        v, w = ps_grid(cfg)
+        v, w = ps_grid()
         return fn(v, w, lin["gear_ratios"], gears.wheel_radius_m("city"),
                   lin["normal_cycling_speed_kmh"], lin["normal_cycling_cadence_rpm"],
                   (lin["reference_speed_m_s"], lin["reference_cadence_rpm"] * np.pi / 30))
@@ -696,8 +701,9 @@ def draw(fid: str, cfg: Mapping, time_methods: Sequence[str] | None = None) -> F
         return fn(cases, m)
     if func == "fig_neglected_momenta":
         m = kw["model"]
-        v, w = ps_grid(cfg)
-        ratios = momentum.neglected_momenta_ratios(linear.linear_model(m), forcing(m, cfg),
+        v, w = ps_grid()
+        ratios = momentum.neglected_momenta_ratios(linear.linear_model(m),
+                                                   forcing(m, lin["harmonics"]),
                                                    v[:, None], w[None, :])
         return fn(v, w, ratios, m, gears.wheel_radius_m(linear.bicycle_of(m)),
                   (min(lin["gear_ratios"]), max(lin["gear_ratios"])))
@@ -708,8 +714,8 @@ def draw(fid: str, cfg: Mapping, time_methods: Sequence[str] | None = None) -> F
                   lin["normal_cycling_cadence_rpm"],
                   (min(lin["gear_ratios"]), max(lin["gear_ratios"])))
     if func == "fig_gear_sections":
-        v = eigen_speeds(cfg)[1:]
-        sections = {m: {gr: gear_section(m, forcing(m, cfg), gr,
+        v = grid(lin["eigen_speed_step_m_s"], lin["eigen_speed_max_m_s"])[1:]
+        sections = {m: {gr: gear_section(m, forcing(m, lin["harmonics"]), gr,
                                          gears.wheel_radius_m(linear.bicycle_of(m)), v,
                                          lin["ps_omega_max_rad_s"])
                         for gr in lin["gear_ratios"]} for m in models}

@@ -1,0 +1,9 @@
+"""Snakemake script: write the configuration in effect to <results>/config.yaml."""
+
+import json
+import sys
+
+from pedalrepro import config
+
+sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
+print(config.write(json.loads(snakemake.params.config), snakemake.output[0]), file=sys.stderr)
