@@ -48,7 +48,7 @@ real = validation.real_example(per_run_all, series)
 with figures.style():
     if real is None:
         fig = fv.no_real_run("No real public-subset run in this build (data_source: "
-                                  f"{source['data_source']}; see the chapter's data note)")
+                             f"{source['data_source']}; see the chapter's data note)")
     else:
         fig = fv.real_run_panel(real[0], real[1], f"REAL run {real[0].run_id}")
     figures.save(fig, out["real_run_panel"])
