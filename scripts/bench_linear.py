@@ -5,13 +5,19 @@
    loop (same results checked). Target: < 50 ms.
 2. The 676 analytic time solutions (LA, 180 s at the configured sample rate) of one model and
    their Hann-DFT amplitudes at the cadence. Target: < 10 s.
+3. The numerical time solutions (LN, Dormand-Prince at the thesis's ode45 tolerances, fall
+   event) through the compiled integrator against ``scipy.integrate.solve_ivp`` for the same
+   runs in the same process (every ``--ln-stride``-th speed and cadence of the time grid;
+   ``--ln-stride 1``: all 676), their largest amplitude difference, and the speed-up; then the
+   whole compiled LN sweep of the model (all runs + Hann DFT), timed directly.
 
-Usage: ``python scripts/bench_linear.py [MODEL]`` (default HR). Prints a small table.
+Usage: ``python scripts/bench_linear.py [MODEL] [--ln-stride K]`` (default HR, K = 3). Prints a
+small table.
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -28,7 +34,31 @@ def best_of(func, repeat: int) -> tuple[float, object]:
     return best, out
 
 
-def main(model_name: str = "HR") -> None:
+def ln_comparison(model, h, v, w, t, fs, lin) -> list[tuple[str, float, str]]:
+    """LN compiled vs solve_ivp on the runs ``v x w``; rows of the table (and prints a line)."""
+    kw = dict(rtol=lin["rtol"], atol=lin["atol"], fall_roll_rad=lin["fall_roll_rad"])
+    t0 = time.perf_counter()
+    fast = response.numerical_time_solutions(model, v, w, h, t, **kw)
+    t_fast = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    slow = response.numerical_time_solutions(model, v, w, h, t, compiled=False, **kw)
+    t_slow = time.perf_counter() - t0
+    ra, _ = response.cadence_amplitudes(fast, fs)
+    rb, _ = response.cadence_amplitudes(slow, fs)
+    forced = (w > 0)[None, :] & np.isfinite(rb)
+    rel = np.abs(ra - rb)[forced] / np.abs(rb)[forced]
+    same_fall = int(np.sum(fast.fell == slow.fell))
+    print(f"LN compiled vs solve_ivp on {v.size * w.size} runs: amplitude at the cadence, largest "
+          f"relative difference {rel.max():.2g}, median {np.median(rel):.2g}; fall flags equal "
+          f"in {same_fall} of {fast.fell.size}; largest fall-time difference "
+          f"{np.max(np.abs(fast.t_end_s - slow.t_end_s)):.2g} s")
+    n = v.size * w.size
+    return [(f"LN solve_ivp (scipy RK45, Python rhs), {n} runs", t_slow, ""),
+            (f"LN compiled Dormand-Prince (same runs), {n} runs", t_fast,
+             f"speed-up {t_slow / t_fast:.0f}x")]
+
+
+def main(model_name: str = "HR", ln_stride: int = 3) -> None:
     cfg = config.load()
     model = linear.linear_model(model_name)
     lin = cfg["linear"]
@@ -55,12 +85,23 @@ def main(model_name: str = "HR") -> None:
     stable = evaluation.stable_speed_mask(model_name, tv)[:, None] & (tw[None, :] > 0)
     st = evaluation.rd_stats(rd, stable)
 
+    lin = cfg["linear"]
+    ln_rows = ln_comparison(model, h, tv[::ln_stride], tw[::ln_stride], t, fs, lin)
+    t0 = time.perf_counter()
+    ln = response.numerical_time_solutions(model, tv, tw, h, t, rtol=lin["rtol"],
+                                           atol=lin["atol"], fall_roll_rad=lin["fall_roll_rad"])
+    response.cadence_amplitudes(ln, fs)
+    t_ln = time.perf_counter() - t0
+    per_run_slow = ln_rows[0][1] / (tv[::ln_stride].size * tw[::ln_stride].size)
     rows = [
         (f"PS batched, {v.size * w.size} points x {len(h.n)} harmonics", t_ps, "< 0.050 s"),
         ("PS per-point Python loop (reference)", t_loop, ""),
         (f"LA analytic time solutions, {tv.size * tw.size} runs x {len(t)} samples", t_la, ""),
         ("Hann-DFT amplitude at the cadence, all runs", t_dft, ""),
         ("LA + DFT total", t_la + t_dft, "< 10 s"),
+        *ln_rows,
+        (f"LN compiled sweep + DFT, all {tv.size * tw.size} runs", t_ln,
+         f"solve_ivp extrapolated: {per_run_slow * tv.size * tw.size:.0f} s"),
     ]
     print(f"model {model_name}, thesis grids (config/config.yaml)")
     print(f"{'step':<62} {'time (s)':>10}  target")
@@ -73,4 +114,9 @@ def main(model_name: str = "HR") -> None:
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("model", nargs="?", default="HR")
+    ap.add_argument("--ln-stride", type=int, default=3,
+                    help="compare LN compiled vs solve_ivp on every K-th speed and cadence")
+    args = ap.parse_args()
+    main(args.model, args.ln_stride)

@@ -22,8 +22,9 @@ import time
 import numpy as np
 
 from pedalrepro import config, response
-from pedalrepro.nonlinear import sweep
-from pedalrepro.simulate import SPACAR_ATOL, SPACAR_RTOL, simulate
+from pedalrepro.integrator import SPACAR_ATOL, SPACAR_RTOL
+from pedalrepro.nonlinear import models, sweep
+from pedalrepro.nonlinear.simulate import simulate
 
 
 def timed(fn, *args, **kwargs):
@@ -46,15 +47,16 @@ def main() -> None:
           f"rtol {settings.rtol:g}, atol {settings.atol:g}")
     for name in args.models:
         h = response.forcing(name, cfg["linear"]["harmonics"])
-        sweep.np_model(name, 6.0)  # build/load the cached code outside the timings
+        models.np_model(name, 6.0)  # build/load the cached code outside the timings
         for label, s in (("default tolerances", settings), ("SPACAR tolerances", spacar)):
             sim, dt = timed(sweep.run, "NP", name, 6.0, 6.0, h, s)
             print(f"one 180 s NP run ({name}, 6 m/s, 6 rad/s), compiled RK45, {label}: "
                   f"{dt:.3f} s ({sim.n_rhs} rhs calls, {dt / sim.n_rhs * 1e6:.1f} us/call, "
                   f"fell={sim.fell} at {sim.t_end_s:.1f} s)")
-    nl = sweep.np_model("HR", 6.0)
+    nl = models.np_model("HR", 6.0)
     sim, dt = timed(simulate, nl, 6.0, settings.duration_s, settings.sample_rate_hz,
-                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
+                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
+                    compiled=False)
     print(f"same run with scipy solve_ivp(RK45) + compiled right-hand side: {dt:.2f} s "
           f"({sim.n_rhs} rhs calls)")
     if args.single_only:

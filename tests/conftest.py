@@ -95,20 +95,22 @@ def nonlinear_cache(request):
     printing each one; returns the cache folder. A warm cache costs file look-ups only."""
     import time
 
-    from pedalrepro.nonlinear import codegen, model
+    from pedalrepro.nonlinear import codegen, library, model
 
     capture = request.config.pluginmanager.getplugin("capturemanager")
     for legs in (False, True):
         for arms in (False, True):
             options = model.ModelOptions(legs=legs, arms=arms)
-            if (codegen.cache_dir() / f"{codegen.cache_key(options)}.py").exists():
+            key = codegen.cache_key(options)
+            folder = codegen.cache_dir()
+            if (folder / f"{key}.py").exists() and any(folder.glob(f"{key}.*.so")):
                 continue
             with capture.global_and_fixture_disabled():
                 print(f"\n[nonlinear_cache] deriving {options.key()} into {codegen.cache_dir()} "
                       "(once; about 10-120 s)...", flush=True)
             start = time.perf_counter()
             codegen.generated_source(options)
-            codegen.compiled_library(options)
+            library.compiled_library(options)
             with capture.global_and_fixture_disabled():
                 print(f"[nonlinear_cache] {options.key()} done in "
                       f"{time.perf_counter() - start:.0f} s", flush=True)

@@ -11,25 +11,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pedalrepro.nonlinear import arms, sweep
-from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear import arms, bodies, models, rigid
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate, simulate_compiled
+from pedalrepro.nonlinear.settings import model_options
+from pedalrepro.nonlinear.simulate import simulate
 
 NAMES = ("M", "C1", "K0", "K2")
 MOVING = ("arm_m_elbow", "arm_m_upper", "arm_m_fore")
-
-
-def _body(p: dict, b: str):
-    return p[f"m{b}"], np.array([p[f"x{b}"], 0.0, p[f"z{b}"]]), nlp._inertia(p, b)
-
-
-def _set(p: dict, b: str, part) -> dict:
-    m, com, i = part
-    out = dict(p)
-    out.update({f"m{b}": m, f"x{b}": com[0], f"z{b}": com[2], f"I{b}xx": i[0, 0],
-                f"I{b}yy": i[1, 1], f"I{b}zz": i[2, 2], f"I{b}xz": i[0, 2]})
-    return out
 
 
 def test_nominal_posture_closes_the_loop():
@@ -52,8 +40,8 @@ def test_closed_form_keeps_the_loop_closed_at_any_steer(original_seat):
     Reach: 0.41 rad at the 0.72 m seat; 0.046 rad at 0.77 m, where Yeadon's arm is nearly
     straight (elbow 14 deg).
     """
-    loop = nlp.arm_loop("CF", original_seat)
-    bench = nlp.model_bodies("CF", original_seat)[0]
+    loop = bodies.arm_loop("CF", original_seat)
+    bench = bodies.model_bodies("CF", original_seat)[0]
     reach = arms.steer_reach_rad(loop, bench)
     for arm in (loop, loop.mirrored()):
         for delta in reach * np.array([-0.999, -0.5, 0.0, 0.3, 0.999]):
@@ -73,11 +61,11 @@ def test_closed_form_keeps_the_loop_closed_at_any_steer(original_seat):
 def test_runs_end_at_the_arms_reach():
     """A CF run that steers beyond the arms' reach ends like a fall at the steer limit, in the
     compiled and in the solve_ivp integrator, instead of failing on a non-finite state."""
-    nl = sweep.nt_model("CF")
+    nl = models.nt_model("CF")
     assert nl.steer_limit_rad == pytest.approx(0.95 * 0.413, abs=2e-3)
     x0 = nl.upright_state(1.0, steer_rate_rad_s=3.0)
-    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0),
-                simulate_compiled(nl, 1.0, 5.0, 100.0, x0=x0)):
+    for sim in (simulate(nl, 1.0, 5.0, 100.0, x0=x0, compiled=False),
+                simulate(nl, 1.0, 5.0, 100.0, x0=x0)):
         assert sim.fell and sim.t_end_s < 5.0
         last = np.flatnonzero(np.isfinite(sim.steer_rad))[-1]
         assert abs(sim.steer_rad[last]) <= nl.steer_limit_rad + 1e-9
@@ -104,8 +92,8 @@ def test_rod_particles_reproduce_the_segment():
 def _zero_arm_masses(bench: dict, arm_values: dict, loop) -> tuple[dict, dict]:
     """Route A: the arm model's bodies with the shoulder/grip particles taken back out."""
     rear, front = arms.fixed_parts(loop)
-    b = _set(bench, "B", nlp._subtract(_body(bench, "B"), [p.as_tuple() for p in rear]))
-    b = _set(b, "H", nlp._subtract(_body(b, "H"), [p.as_tuple() for p in front]))
+    b = rigid.with_body(bench, "B", rigid.subtract(rigid.body_part(bench, "B"), rear))
+    b = rigid.with_body(b, "H", rigid.subtract(rigid.body_part(b, "H"), front))
     return b, dict(arm_values) | dict.fromkeys(MOVING, 0.0)
 
 
@@ -113,19 +101,19 @@ def test_massless_arms_equal_rigid_rider_without_arms():
     """Arm masses zero: the arm model linearises (1e-9) to the plain Whipple model whose body B
     is the rigid city rider (bicycle_rider: rider lowered with its arms) minus the lowered Yeadon
     arm segments, the hands added to the front frame at the handlebar (a second route)."""
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
     a_bench, a_values = _zero_arm_masses(bench, values, loop)
-    route_a = benchmark_matrices(NonlinearModel(a_bench, nlp.model_options("CF"),
+    route_a = benchmark_matrices(NonlinearModel(a_bench, model_options("CF"),
                                                 arm_parameters=a_values))
-    rigid = nlp.bicycle_rider("CF")
-    drop = nlp.rider_drop_m("CF")
+    whole = bodies.bicycle_rider("CF")
+    drop = bodies.rider_drop_m("CF")
     y = arms.yeadon_arms()
-    segments = [(p.mass, p.com + drop, p.inertia) for p in y.segments]
-    hand_l = (y.hand.mass, y.hand.com * [1, -1, 1], np.diag([1, -1, 1]) @ y.hand.inertia
-              @ np.diag([1, -1, 1]))
-    b = _set(rigid, "B", nlp._subtract(_body(rigid, "B"), segments))
-    b = _set(b, "H", nlp._combine([_body(b, "H"), y.hand.as_tuple(), hand_l]))
+    segments = [rigid.RigidPart(p.mass, p.com + drop, p.inertia) for p in y.segments]
+    hand_l = rigid.RigidPart(y.hand.mass, y.hand.com * [1, -1, 1],
+                             np.diag([1, -1, 1]) @ y.hand.inertia @ np.diag([1, -1, 1]))
+    b = rigid.with_body(whole, "B", rigid.subtract(rigid.body_part(whole, "B"), segments))
+    b = rigid.with_body(b, "H", rigid.combine([rigid.body_part(b, "H"), y.hand, hand_l]))
     route_b = benchmark_matrices(NonlinearModel(b))
     for k in NAMES:
         np.testing.assert_allclose(route_a[k], route_b[k], rtol=1e-9, atol=1e-9, err_msg=k)
@@ -140,9 +128,9 @@ def test_arm_mass_matrix_from_finite_differences_of_the_loop():
     rear frame about the rear contact at psi' = c cos(lam) / w delta' (trail; Meijaard et al.
     2007). Tolerance 1e-6 relative: finite-difference error ~ (1e-5)^2.
     """
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
-    opts = nlp.model_options("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
+    opts = model_options("CF")
     full = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=values))["M"]
     massless = dict(values) | dict.fromkeys(MOVING, 0.0)
     none = benchmark_matrices(NonlinearModel(bench, opts, arm_parameters=massless))["M"]
@@ -168,7 +156,7 @@ def test_energy_is_conserved_with_arms():
     perturbation at 10 m/s grows into a large lean (about 0.7 rad) within the 10 s without
     falling. DOP853 at rtol = atol = 1e-10: the drift stays below 1e-9 (measured ~2e-13).
     """
-    nl = sweep.nt_model("CF")
+    nl = models.nt_model("CF")
     x0 = nl.upright_state(10.0, steer_rate_rad_s=0.02)
     sim = simulate(nl, 10.0, 10.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853",
                    fall_roll_rad=1.0)
@@ -181,9 +169,9 @@ def test_energy_is_conserved_with_arms():
 
 def test_energy_expression_includes_the_arms():
     """Energy of the arm model minus that with massless moving particles = their KE + PE."""
-    bench, values = nlp.model_bodies("CF")
-    loop = nlp.arm_loop("CF")
-    opts = nlp.model_options("CF")
+    bench, values = bodies.model_bodies("CF")
+    loop = bodies.arm_loop("CF")
+    opts = model_options("CF")
     with_arms = NonlinearModel(bench, opts, arm_parameters=values)
     without = NonlinearModel(bench, opts, arm_parameters=dict(values) | dict.fromkeys(MOVING, 0.0))
     x = with_arms.upright_state(0.0, steer_rate_rad_s=1.0)
@@ -202,11 +190,11 @@ def test_energy_expression_includes_the_arms():
 
 def test_original_seat_model_is_the_own_cf_model_unlowered():
     """Fig E.1 model: CF's own linearisation with the rider not lowered (hands on the bar)."""
-    cf77 = arms.original_seat_model("CF")
-    want = benchmark_matrices(sweep.nt_model("CF", original_seat=True))
+    cf77 = models.original_seat_model("CF")
+    want = benchmark_matrices(models.nt_model("CF", original_seat=True))
     for k in NAMES:
         np.testing.assert_allclose(getattr(cf77, k), want[k], rtol=1e-12, err_msg=k)
-    low, high = nlp.arm_loop("CF"), nlp.arm_loop("CF", original_seat=True)
+    low, high = bodies.arm_loop("CF"), bodies.arm_loop("CF", original_seat=True)
     # the shoulders are 0.05 m higher along the seat tube; the grip does not move
     assert np.linalg.norm(high.shoulder - low.shoulder) == pytest.approx(0.05, rel=1e-12)
     np.testing.assert_array_equal(high.grip, low.grip)
@@ -216,4 +204,4 @@ def test_original_seat_model_is_the_own_cf_model_unlowered():
 
 def test_original_seat_only_for_the_city_bicycle():
     with pytest.raises(ValueError, match="city bicycle"):
-        arms.original_seat_model("HS")
+        models.original_seat_model("HS")

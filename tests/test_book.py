@@ -80,7 +80,7 @@ def test_figure_id_list_follows_the_thesis():
     assert len(ids) == 70
     assert ids["id"].is_unique
     assert ids.groupby("chapter").size().to_dict() == {"2": 8, "3": 50, "4": 12}
-    assert all(t == figures._thesis_label(i) for i, t in zip(ids["id"], ids["thesis"], strict=True))
+    assert all(t == figures.thesis_label(i) for i, t in zip(ids["id"], ids["thesis"], strict=True))
     assert (ids["id"].str.startswith("table_").sum(), len(ids)) == (3, 70)
     # thesis order within each chapter: main-text numbers ascend
     main = ids[ids["id"].str.fullmatch(r"fig_\d_\d+")]

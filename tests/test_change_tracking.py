@@ -97,7 +97,7 @@ def test_declared_files_exist_and_are_literal():
 
 def _literal_parameter_files(path: Path) -> set[str]:
     """data/parameters/<name>.yaml of every literal argument of the computed-name loaders."""
-    tree = ast.parse(dependencies._source(path))
+    tree = ast.parse(dependencies.python_source(path))
     out = set()
     for node in ast.walk(tree):
         if (isinstance(node, ast.Call) and node.args

@@ -9,7 +9,7 @@ import yaml
 from pedalrepro import params, paths
 from pedalrepro.nonlinear import codegen, model
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate
+from pedalrepro.nonlinear.simulate import simulate
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +73,31 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
     assert codegen.generated_source(model.ModelOptions()) == path
 
 
+def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, monkeypatch,
+                                                             tmp_path):
+    """Editing the driver or the integrator C changes the library, never the derivation key:
+    the library is rebuilt from the cached generated C (derive() is not called)."""
+    from pedalrepro.nonlinear import library
+
+    options = model.ModelOptions()
+    key, so = codegen.cache_key(options), library.compiled_library(options)
+    if so is None:
+        pytest.skip("no C compiler")
+    edited = tmp_path / "rhs_driver.c"
+    edited.write_text(library.RHS_DRIVER_C.read_text() + "\n/* an edit */\n")
+
+    def boom(*args, **kwargs):
+        raise AssertionError("re-derived although only hand-written C changed")
+
+    monkeypatch.setattr(model, "derive", boom)
+    monkeypatch.setattr(library, "RHS_DRIVER_C", edited)
+    rebuilt = library.compiled_library(options)
+    assert codegen.cache_key(options) == key
+    assert rebuilt != so and rebuilt.exists() and rebuilt.name.startswith(key)
+    rebuilt.unlink()
+    rebuilt.with_suffix(".c").unlink()
+
+
 @pytest.mark.parametrize(("name", "options", "steer"), [
     ("HR", model.ModelOptions(legs=True), 0.05),             # moving legs
     ("HS", model.ModelOptions(legs=True), 0.05),             # + the substitute's lc_* terms
@@ -80,14 +105,14 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
 ])
 def test_compiled_rhs_equals_generated_python(name, options, steer):
     """C right-hand side = generated Python to rounding (NP models, off-equilibrium state)."""
-    from pedalrepro.nonlinear import sweep
+    from pedalrepro.nonlinear import models
 
-    nl = sweep.np_model(name, 2.0 * np.pi)
+    nl = models.np_model(name, 2.0 * np.pi)
     assert nl.options == options
     if name == "HS":  # the correction terms are really non-zero in this check
         assert any(v != 0.0 for n, v in zip(nl._code.PARAMS, nl.p, strict=True)
                    if n.startswith("lc_"))
-    if nl._lib is None:
+    if nl.lib is None:
         pytest.skip("no C compiler: only the Python path exists")
     x = np.array([0.1, nl.nominal_pitch_rad, steer, 0.3, -12.0, -0.2])
     np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
@@ -96,12 +121,13 @@ def test_compiled_rhs_equals_generated_python(name, options, steer):
 
 def test_moving_legs_mean_equals_rigid_rider():
     """Removing the revolution-averaged leg bodies and adding them back restores body B."""
-    from pedalrepro.nonlinear import parameters as nlp
+    from pedalrepro.nonlinear import bodies, rigid
 
-    _, _, mean = nlp.leg_bodies("CR", 2.0 * np.pi)
-    rest = nlp.without_legs("CR", mean)
-    full = nlp.bicycle_rider("CR")
-    m, com, inertia = nlp._combine([nlp._body_b(rest)] + list(mean))
+    _, _, mean = bodies.leg_bodies("CR", 2.0 * np.pi)
+    rest = bodies.without_legs("CR", mean)
+    full = bodies.bicycle_rider("CR")
+    back = rigid.combine([rigid.body_part(rest, "B")] + list(mean))
+    m, com, inertia = back.mass, back.com, back.inertia
     assert m == pytest.approx(full["mB"], rel=1e-12)
     assert com[0] == pytest.approx(full["xB"], abs=1e-12)
     assert com[2] == pytest.approx(full["zB"], abs=1e-12)
@@ -112,14 +138,14 @@ def test_moving_legs_mean_equals_rigid_rider():
 def test_leg_fourier_series_reproduces_the_four_bar():
     """The prescribed leg motion (32-harmonic series) equals pedalrepro.legs at odd times."""
     from pedalrepro import legs
-    from pedalrepro.nonlinear import parameters as nlp
+    from pedalrepro.nonlinear import bodies
 
     w = 7.0
-    _, spec, _ = nlp.leg_bodies("CR", w)
+    _, spec, _ = bodies.leg_bodies("CR", w)
     geom = legs.leg_geometry("city", "O")
     t = np.array([0.0123, 0.4567, 0.8])
     motion = legs.leg_motion(geom, w, t)
-    lam = nlp.bicycle_rider("CR")["lam"]
+    lam = bodies.bicycle_rider("CR")["lam"]
     s = np.array([spec(ti) for ti in t])
     k = model.LEG_BODIES.index("shank_r")
     # the shank angle in the rear frame is the four-bar pitch angle minus the steer-axis tilt

@@ -1,4 +1,5 @@
-"""Time integration: fall events keep the simulated part; non-finite states stop with an error."""
+"""Time integration (pedalrepro.integrator): fall events keep the simulated part, non-finite
+states stop with an error, the compiled Dormand-Prince run equals solve_ivp's RK45."""
 
 from __future__ import annotations
 
@@ -7,24 +8,32 @@ import types
 import numpy as np
 import pytest
 
-from pedalrepro.simulate import SimulationError, harmonic_torque, simulate
+from pedalrepro.integrator import (
+    LinearSystem,
+    SimulationError,
+    flow,
+    harmonic_torque,
+    integrate,
+)
+from pedalrepro.nonlinear.simulate import simulate
 
 
-class _Inverted:
-    """Linear inverted pendulum roll'' = a roll: falls in a known time."""
-
-    a = 4.0
-
-    def upright_state(self, speed_m_s):
-        return np.array([1e-3, 0.0])
-
-    def rhs(self, t, x, torque=(0.0, 0.0)):
-        return np.array([x[1], self.a * x[0] + torque[0]])
+def _inverted(a: float = 4.0) -> LinearSystem:
+    """Linear inverted pendulum roll'' = a roll, unforced: falls in a known time."""
+    return LinearSystem(np.array([[0.0, 1.0], [a, 0.0]]), np.zeros(0), np.zeros((0, 1)), (1,))
 
 
-def test_fall_event_stops_and_keeps_the_simulated_part():
-    sim = simulate(_Inverted(), 0.0, 10.0, 100.0, fall_roll_rad=1.0, rtol=1e-10, atol=1e-12)
-    # roll = 1e-3 cosh(2 t) reaches 1 rad at t = acosh(1000) / 2
+@pytest.mark.parametrize("compiled,variant", [(False, "scipy"), (True, "scipy"),
+                                              (True, "hermite")])
+def test_fall_event_stops_and_keeps_the_simulated_part(compiled, variant):
+    system = _inverted()
+    if compiled and system.compiled() is None:
+        pytest.skip("no C compiler")
+    t = np.arange(1001) / 100.0
+    sim = integrate(system, np.array([1e-3, 0.0]), t, rtol=1e-10, atol=1e-12,
+                    fall_roll_rad=1.0, compiled=compiled, variant=variant)
+    # roll = 1e-3 cosh(2 t) reaches 1 rad at t = acosh(1000) / 2; local errors below
+    # rtol = 1e-10 over ~1e3 steps, amplified by the growth: well within 1e-6 relative
     assert sim.fell
     assert sim.t_end_s == pytest.approx(np.arccosh(1000.0) / 2.0, rel=1e-6)
     kept = sim.t_s <= sim.t_end_s
@@ -33,11 +42,34 @@ def test_fall_event_stops_and_keeps_the_simulated_part():
     np.testing.assert_allclose(sim.roll_rad[kept], 1e-3 * np.cosh(2 * sim.t_s[kept]), rtol=1e-7)
 
 
+@pytest.mark.parametrize("compiled", [True, False])
+def test_flow_over_an_interval_without_samples(compiled):
+    """flow(): the state at t1 from t0 (0.5 -> 2 s on the pendulum: exact cosh/sinh)."""
+    system = _inverted()
+    x0 = np.array([1e-3 * np.cosh(1.0), 2e-3 * np.sinh(1.0)])
+    x1 = flow(system, x0, 0.5, 2.0, rtol=1e-11, atol=1e-14,
+              method="RK45" if compiled else "DOP853")
+    np.testing.assert_allclose(x1, [1e-3 * np.cosh(4.0), 2e-3 * np.sinh(4.0)], rtol=1e-8)
+
+
 def test_non_finite_state_is_an_error():
-    bad = _Inverted()
-    bad.rhs = lambda t, x, torque=(0.0, 0.0): np.array([np.nan, 0.0])
+    bad = types.SimpleNamespace(roll_index=0, steer_index=1, steer_limit_rad=np.inf,
+                                rhs=lambda t, x: np.array([np.nan, 0.0]), compiled=lambda: None)
     with pytest.raises(SimulationError, match="non-finite"):
-        simulate(bad, 0.0, 1.0, 10.0)
+        integrate(bad, np.zeros(2), np.linspace(0, 1, 11), rtol=1e-6, atol=1e-8,
+                  fall_roll_rad=1.0)
+
+
+def test_bad_arguments_name_the_argument():
+    with pytest.raises(ValueError, match="rtol"):
+        integrate(_inverted(), np.zeros(2), np.linspace(0, 1, 3), rtol=np.nan, atol=1e-8,
+                  fall_roll_rad=1.0)
+    with pytest.raises(ValueError, match="t_s"):
+        integrate(_inverted(), np.zeros(2), np.array([0.0, 0.0]), rtol=1e-3, atol=1e-8,
+                  fall_roll_rad=1.0)
+    with pytest.raises(ValueError, match="variant"):
+        integrate(_inverted(), np.zeros(2), np.linspace(0, 1, 3), rtol=1e-3, atol=1e-8,
+                  fall_roll_rad=1.0, variant="euler")
 
 
 def test_harmonic_torque_matches_eq_3_14():
@@ -51,27 +83,28 @@ def test_harmonic_torque_matches_eq_3_14():
 
 
 def test_compiled_run_equals_solve_ivp_rk45():
-    """The compiled Dormand-Prince run reproduces solve_ivp(RK45) on the NT model, fall included."""
+    """The compiled Dormand-Prince run reproduces solve_ivp(RK45) on the NT model, fall included
+    (both variants; the scipy variant takes solve_ivp's steps, so it agrees to round-off)."""
     from pedalrepro import response
-    from pedalrepro.nonlinear import sweep
-    from pedalrepro.simulate import simulate_compiled
+    from pedalrepro.nonlinear import models
 
-    nl = sweep.nt_model("HR")
-    if nl._lib is None:
+    nl = models.nt_model("HR")
+    if nl.lib is None:
         pytest.skip("no C compiler")
     h = response.forcing("HR", None)
-    w = 6.0
-    ref = simulate(nl, 6.0, 20.0, 50.0, torque=harmonic_torque(h, w), rtol=1e-8, atol=1e-10)
-    fast = simulate_compiled(nl, 6.0, 20.0, 50.0, harmonics=h, omega_rad_s=w, rtol=1e-8,
-                             atol=1e-10)
-    assert not fast.fell
+    kw = dict(harmonics=h, omega_rad_s=6.0, rtol=1e-8, atol=1e-10)
+    ref = simulate(nl, 6.0, 20.0, 50.0, compiled=False, **kw)
     scale = np.max(np.abs(ref.roll_rad))
-    np.testing.assert_allclose(fast.roll_rad, ref.roll_rad, atol=1e-7 * scale)
-    falling = simulate_compiled(nl, 2.0, 20.0, 50.0, harmonics=h, omega_rad_s=w, rtol=1e-8,
-                                atol=1e-10, fall_roll_rad=1.0)
-    ref_fall = simulate(nl, 2.0, 20.0, 50.0, torque=harmonic_torque(h, w), rtol=1e-8,
-                        atol=1e-10, fall_roll_rad=1.0)
-    assert falling.fell and ref_fall.fell
-    assert falling.t_end_s == pytest.approx(ref_fall.t_end_s, abs=1e-6)
-    kept = falling.t_s <= falling.t_end_s
-    assert np.all(np.isfinite(falling.roll_rad[kept])) and np.all(np.isnan(falling.roll_rad[~kept]))
+    for variant, tol in (("hermite", 1e-7), ("scipy", 1e-9)):
+        fast = simulate(nl, 6.0, 20.0, 50.0, variant=variant, **kw)
+        assert not fast.fell
+        np.testing.assert_allclose(fast.roll_rad, ref.roll_rad, atol=tol * scale)
+    ref_fall = simulate(nl, 2.0, 20.0, 50.0, compiled=False, fall_roll_rad=1.0, **kw)
+    assert ref_fall.fell
+    for variant in ("hermite", "scipy"):
+        falling = simulate(nl, 2.0, 20.0, 50.0, fall_roll_rad=1.0, variant=variant, **kw)
+        assert falling.fell
+        assert falling.t_end_s == pytest.approx(ref_fall.t_end_s, abs=1e-6)
+        kept = falling.t_s <= falling.t_end_s
+        assert np.all(np.isfinite(falling.roll_rad[kept]))
+        assert np.all(np.isnan(falling.roll_rad[~kept]))

@@ -12,8 +12,7 @@ import numpy as np
 import pytest
 
 from pedalrepro import params
-from pedalrepro.nonlinear import model, substitute, sweep
-from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear import bodies, model, models, substitute
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 
 NAMES = ("M", "C1", "K0", "K2")
@@ -29,7 +28,7 @@ def test_substitute_linearises_to_appendix_b(name):
     """NT substitute = Appendix B to round-off (the construction), though its body differs."""
     ab = params.appendix_b_model(name)
     want = {k: getattr(ab, k) for k in NAMES}
-    assert_matrices_equal(benchmark_matrices(sweep.nt_model(name)), want)
+    assert_matrices_equal(benchmark_matrices(models.nt_model(name)), want)
     body = substitute.body_linearisation(name)
     # the rigid-rider body alone is far from Appendix B (the arms' share): steer inertia
     assert abs(body["M"][1, 1] - ab.M[1, 1]) / ab.M[1, 1] > 0.1
@@ -64,7 +63,7 @@ def test_bad_correction_is_a_clear_error(bad):
 
 def test_original_seat_changes_roll_inertia_as_the_benchmark_formula_says():
     """Rigid city rider raised 0.05 m: M[0,0] changes by d(I_Bxx + m_B z_B^2) (Meijaard T_xx)."""
-    low, high = nlp.bicycle_rider("CR"), nlp.bicycle_rider("CR", original_seat=True)
+    low, high = bodies.bicycle_rider("CR"), bodies.bicycle_rider("CR", original_seat=True)
     assert high["mB"] == pytest.approx(low["mB"], rel=1e-14)
     assert high["zB"] < low["zB"]  # z down: the rider is higher on the original seat
     expected = (high["IBxx"] + high["mB"] * high["zB"] ** 2) - (low["IBxx"]

@@ -8,7 +8,7 @@ parallel sweep jobs start, so that two jobs never derive the same model at once.
 import sys
 import time
 
-from pedalrepro.nonlinear import codegen, model
+from pedalrepro.nonlinear import codegen, library, model
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 # plain Whipple (benchmark, HS, HR, CR) and with CF's arm loops, with and without legs
@@ -16,7 +16,7 @@ variant = snakemake.wildcards.variant
 options = model.ModelOptions(legs="legs" in variant, arms="arms" in variant)
 start = time.perf_counter()
 py = codegen.generated_source(options)
-so = codegen.compiled_library(options)
+so = library.compiled_library(options)
 line = f"{options.key()}: {py} {so} ({time.perf_counter() - start:.1f} s)"
 with open(snakemake.output[0], "w") as fh:
     fh.write(line + "\n")

@@ -21,10 +21,9 @@ import pandas as pd
 import yaml
 
 from pedalrepro import linear, params, response
-from pedalrepro.nonlinear import arms, substitute, sweep
-from pedalrepro.nonlinear import parameters as nlp
+from pedalrepro.nonlinear import arms, bodies, models, substitute
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
-from pedalrepro.simulate import simulate
+from pedalrepro.nonlinear.simulate import simulate
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 NAMES = ("M", "C1", "K0", "K2")
@@ -51,7 +50,7 @@ def rel_diffs(mats, ab):
 records, own, substitute_checks = [], {"benchmark": bench}, []
 for name in snakemake.params.models:
     ab = params.appendix_b_model(name)
-    own[name] = benchmark_matrices(sweep.nt_model(name))  # what NT / NP simulate
+    own[name] = benchmark_matrices(models.nt_model(name))  # what NT / NP simulate
     body = substitute.body_linearisation(name)
     compared = ("rigid-rider body of the substitute, before the correction"
                 if substitute.is_substitute(name) else "own model")
@@ -78,10 +77,10 @@ def save_eigen(path, lin):
              note=s.note, **{k: getattr(lin, k) for k in NAMES})
 
 
-cf72 = own["CF"] if "CF" in own else benchmark_matrices(sweep.nt_model("CF"))
+cf72 = own["CF"] if "CF" in own else benchmark_matrices(models.nt_model("CF"))
 save_eigen(snakemake.output.eigen_cf_own, params.LinearModel(
     "CF (own, 0.72 m seat)", *(cf72[k] for k in NAMES), g=params.appendix_b_model("CF").g))
-save_eigen(snakemake.output.eigen_e_1, arms.original_seat_model("CF"))
+save_eigen(snakemake.output.eigen_e_1, models.original_seat_model("CF"))
 # Energy check (no dissipation, rolling without slip): unforced benchmark run from a stable
 # state at 5 m/s with a roll-rate perturbation, 15 s, rtol = atol = 1e-10 (DOP853).
 nl = NonlinearModel(params.benchmark_parameters("benchmark"))
@@ -89,12 +88,13 @@ x0 = nl.upright_state(5.0, roll_rate_rad_s=0.5)
 sim = simulate(nl, 5.0, 15.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853")
 drift, energy = nl.energy_drift(sim.t_s, sim.states)
 # the same with CF's arm loops moving with the steer (legs fixed), 10 s
-cf = sweep.nt_model("CF")
+cf = models.nt_model("CF")
 sim = simulate(cf, 10.0, 10.0, 20.0, x0=cf.upright_state(10.0, steer_rate_rad_s=0.02),
                rtol=1e-10, atol=1e-10, method="DOP853")
 drift_cf, _ = cf.energy_drift(sim.t_s, sim.states)
 nominal = arms.nominal_posture()
-reach = {seat: arms.steer_reach_rad(nlp.arm_loop("CF", seat), nlp.model_bodies("CF", seat)[0])
+reach = {seat: arms.steer_reach_rad(bodies.arm_loop("CF", seat),
+                                   bodies.model_bodies("CF", seat)[0])
          for seat in (False, True)}
 pd.DataFrame([
     ("benchmark_linearisation_max_abs_diff", max(

@@ -36,7 +36,7 @@ PACKAGE_DIR: Path = Path(__file__).resolve().parent
 PACKAGE = PACKAGE_DIR.name
 
 
-def _source(path: Path) -> str:
+def python_source(path: Path) -> str:
     """Python source of a ``.py`` file, or the code cells of a notebook joined (magics dropped)."""
     text = path.read_text(encoding="utf-8")
     if path.suffix != ".ipynb":
@@ -56,7 +56,7 @@ def _source(path: Path) -> str:
 @cache
 def _tree(path: Path) -> ast.Module:
     try:
-        return ast.parse(_source(path), filename=str(path))
+        return ast.parse(python_source(path), filename=str(path))
     except SyntaxError as exc:
         raise SyntaxError(f"cannot parse {path} to find its imports: {exc}") from exc
 

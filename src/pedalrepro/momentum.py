@@ -17,12 +17,12 @@ from __future__ import annotations
 import numpy as np
 
 from .params import LinearModel
-from .response import Harmonics, _coefficients
+from .response import Harmonics, harmonic_coefficients
 
 
 def cam_coefficients(model: LinearModel, harmonics: Harmonics) -> np.ndarray:
     """Complex CAM response ``Q_k = -M^-1 coef_k`` per harmonic, shape (2, k) [roll; steer]."""
-    _, coef = _coefficients(harmonics)
+    _, coef = harmonic_coefficients(harmonics)
     return -np.linalg.solve(model.M, coef.T)
 
 
@@ -41,7 +41,7 @@ def cam_time(model: LinearModel, harmonics: Harmonics, omega_rad_s: float,
     angle_rad, rate_rad_s
         Shape (2, n_t): rows roll, steer.
     """
-    n, _ = _coefficients(harmonics)
+    n, _ = harmonic_coefficients(harmonics)
     q = cam_coefficients(model, harmonics)
     ph = np.exp(1j * np.multiply.outer(n * omega_rad_s, np.asarray(t_s, float)))  # (k, n_t)
     return np.real(q @ ph), np.real((q * (1j * n * omega_rad_s)) @ ph)
@@ -52,7 +52,7 @@ def leg_momentum(harmonics: Harmonics, omega_rad_s) -> np.ndarray:
 
     ``L_L = i w coef_1`` (N m s), shape ``shape(omega) + (2,)``.
     """
-    _, coef = _coefficients(harmonics)
+    _, coef = harmonic_coefficients(harmonics)
     w = np.asarray(omega_rad_s, float)[..., None]
     return 1j * w * coef[0]
 
@@ -76,7 +76,7 @@ def neglected_momenta_ratios(model: LinearModel, harmonics: Harmonics, speed_m_s
         Infinite at zero cadence.
     """
     q = cam_coefficients(model, harmonics)[:, 0]  # (2,)
-    _, coef = _coefficients(harmonics)
+    _, coef = harmonic_coefficients(harmonics)
     v, w = np.broadcast_arrays(np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float))
     with np.errstate(divide="ignore", invalid="ignore"):
         ll = np.abs(w)[..., None] * np.abs(coef[0])  # (..., 2)

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from . import spectral
+from .integrator import LinearSystem, SimulationError, integrate
 from .linear import state_matrix
 from .params import LinearModel
 
@@ -63,7 +63,11 @@ def select(harmonics: Harmonics, n: tuple[int, ...] | None = None, *, roll: bool
     return SimpleHarmonics(nn[keep], r, s)
 
 
-def _coefficients(harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+def harmonic_coefficients(harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
+    """Harmonic numbers ``n`` (k,) and torque coefficients (k, 2) [roll, steer] (Eq 3.14).
+
+    Raises ``ValueError`` unless ``n``, ``roll`` and ``steer`` are 1-D of equal length.
+    """
     n = np.asarray(harmonics.n, dtype=float)
     coef = np.stack([np.asarray(harmonics.roll, complex), np.asarray(harmonics.steer, complex)],
                     axis=-1)
@@ -102,7 +106,7 @@ def particular_solution(
         ``n_k`` is ``Re(roll[..., k] exp(i n_k w t))``. The amplitude at the cadence is
         ``abs(roll[..., 0])`` when ``n[0] == 1``; the phase is ``angle(...)``.
     """
-    n, coef = _coefficients(harmonics)
+    n, coef = harmonic_coefficients(harmonics)
     v, w = np.broadcast_arrays(np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float))
     freq = w[..., None] * n  # (..., k)
     a = dynamic_stiffness(model, v[..., None], freq)  # (..., k, 2, 2)
@@ -131,7 +135,7 @@ def solve_2x2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def particular_solution_loop(model: LinearModel, speed_m_s: np.ndarray, omega_rad_s: np.ndarray,
                              harmonics: Harmonics) -> tuple[np.ndarray, np.ndarray]:
     """Reference per-point Python loop of :func:`particular_solution` (for tests and bench)."""
-    n, coef = _coefficients(harmonics)
+    n, coef = harmonic_coefficients(harmonics)
     roll = np.zeros((len(speed_m_s), len(omega_rad_s), len(n)), complex)
     steer = np.zeros_like(roll)
     for i, v in enumerate(speed_m_s):
@@ -216,7 +220,7 @@ def analytic_time_solution(
     v_grid = np.asarray(speed_m_s, float)
     w_grid = np.asarray(omega_rad_s, float)
     t = np.asarray(t_s, float)
-    n, _ = _coefficients(harmonics)
+    n, _ = harmonic_coefficients(harmonics)
     roll_out = np.empty((len(v_grid), len(w_grid), len(t)))
     steer_out = np.empty_like(roll_out)
     lam_all, vec_all = np.linalg.eig(state_matrix(model, v_grid))  # (n_v, 4), (n_v, 4, 4)
@@ -254,45 +258,30 @@ def numerical_time_solution(
     atol: float = 1e-6,
     fall_roll_rad: float = np.pi / 2,
     method: str = "RK45",
+    compiled: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, float, bool]:
     """Numerical integration of the linear model from rest (LN; Sec 3.1.2.1, ode45 check).
 
-    ``scipy.integrate.solve_ivp`` (RK45 = Dormand-Prince, as Matlab's ode45) with a terminal
-    event at ``|roll| = fall_roll_rad``; what was simulated before the fall is kept.
+    Dormand-Prince 5(4) (Matlab's ode45, scipy's RK45) with a terminal event at
+    ``|roll| = fall_roll_rad``; what was simulated before the fall is kept. The run goes
+    through :func:`pedalrepro.integrator.integrate`: compiled (``variant="scipy"``, solve_ivp's
+    RK45 step for step, its quartic dense output and event location) unless ``compiled`` is
+    False or ``method`` is not RK45 (then ``scipy.integrate.solve_ivp`` itself).
 
     Returns
     -------
     roll, steer, t_end_s, fell
         Samples at ``t_s`` (NaN after the fall), the last simulated time and the fall flag.
     """
-    n, coef = _coefficients(harmonics)
-    a = state_matrix(model, speed_m_s)
-    minv = np.linalg.inv(model.M)
-    amp = (minv @ coef.T).T * (n * omega_rad_s)[:, None] ** 2  # (k, 2) complex, M^-1 f
-    freq = n * omega_rad_s
-
-    def rhs(t: float, x: np.ndarray) -> np.ndarray:
-        acc = np.real(np.exp(1j * freq * t) @ amp)
-        dx = a @ x
-        dx[2:] += acc
-        return dx
-
-    def fall(t: float, x: np.ndarray) -> float:
-        return abs(x[0]) - fall_roll_rad
-
-    fall.terminal = True
-    t = np.asarray(t_s, float)
-    sol = solve_ivp(rhs, (t[0], t[-1]), np.zeros(4), method=method, t_eval=t, rtol=rtol,
-                    atol=atol, events=fall)
-    if sol.status == -1:
-        raise RuntimeError(f"integration failed at v={speed_m_s}, w={omega_rad_s}: {sol.message}")
-    roll = np.full(len(t), np.nan)
-    steer = np.full(len(t), np.nan)
-    m = len(sol.t)
-    roll[:m], steer[:m] = sol.y[0], sol.y[1]
-    fell = sol.status == 1
-    t_end = float(sol.t_events[0][0]) if fell else float(t[-1])
-    return roll, steer, t_end, fell
+    n, coef = harmonic_coefficients(harmonics)
+    system = LinearSystem.bicycle(state_matrix(model, speed_m_s), model.M, n, coef, omega_rad_s)
+    try:
+        sim = integrate(system, np.zeros(4), t_s, rtol=rtol, atol=atol,
+                        fall_roll_rad=fall_roll_rad, method=method, compiled=compiled,
+                        variant="scipy")
+    except SimulationError as err:
+        raise RuntimeError(f"integration failed at v={speed_m_s}, w={omega_rad_s}: {err}") from err
+    return sim.roll_rad, sim.steer_rad, sim.t_end_s, sim.fell
 
 
 def numerical_time_solutions(

@@ -45,7 +45,7 @@ def synthetic_stamp(fig: matplotlib.figure.Figure, reason: str = "") -> None:
              fontweight="bold")
 
 
-def _thesis_label(figure_id: str) -> str:
+def thesis_label(figure_id: str) -> str:
     """Thesis number of a figure/table id: ``"fig_2_3"`` -> ``"Figure 2.3"``, ``"table_d_1"`` ->
     ``"Table D.1"``."""
     kind, _, number = figure_id.partition("_")
@@ -64,7 +64,7 @@ def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | N
     import base64
     import html
 
-    label = _thesis_label(figure_id)
+    label = thesis_label(figure_id)
     cap = f"<strong>{label} of the thesis</strong> (<code>{figure_id}</code>)"
     if caption:
         cap += ". " + html.escape(caption)
@@ -114,7 +114,7 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
         obj = table_path if figure_id.startswith("table_") else fig_path
         if not Path(obj).exists():
             raise FileNotFoundError(f"{figure_id}: {obj} does not exist (run the pipeline)")
-    bundle = {"text/plain": f"{_thesis_label(figure_id)} ({figure_id})"}
+    bundle = {"text/plain": f"{thesis_label(figure_id)} ({figure_id})"}
     if isinstance(obj, (str, Path)) and str(obj).endswith(".csv"):
         obj = pd.read_csv(obj)
     if isinstance(obj, pd.DataFrame):

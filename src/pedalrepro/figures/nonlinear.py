@@ -74,7 +74,7 @@ def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndar
         Eigen sweep of the project's own CF with its arm loops, seat 0.72 m
         (``results/intermediate/nonlinear/eigen_cf_own.npz``).
     cf_original_seat
-        Eigen sweep of :func:`pedalrepro.nonlinear.arms.original_seat_model`
+        Eigen sweep of :func:`pedalrepro.nonlinear.models.original_seat_model`
         (``results/intermediate/nonlinear/eigen_cf_original_seat.npz``): the same model with the
         rider (shoulders included) not lowered, the hands on the handlebar.
     """

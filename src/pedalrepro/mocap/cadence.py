@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import spectral
-from .kinematics import Kinematics, _fill
+from .kinematics import Kinematics, fill_gaps
 from .reader import Run
 
 #: Band searched for the pedalling peak (Hz): 6-180 rpm.
@@ -64,7 +64,7 @@ def foot_signal(run: Run, kin: Kinematics) -> np.ndarray:
     if np.isfinite(x).sum() < 0.5 * x.size:
         raise ValueError(f"run {run.run_id}: the right-foot marker (1) is missing in more than "
                          "half the run: no cadence")
-    return _fill(run.t_s, x)
+    return fill_gaps(run.t_s, x)
 
 
 def peak_frequency_hz(x: np.ndarray, sample_rate_hz: float,

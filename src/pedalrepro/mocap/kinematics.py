@@ -261,7 +261,7 @@ def _axle(ref: dict[int, np.ndarray], notes: list[str]) -> np.ndarray:
                      "markers")
 
 
-def _fill(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+def fill_gaps(t: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Linear interpolation over NaN (nearest value at the ends)."""
     ok = np.isfinite(x)
     if ok.all():
@@ -364,7 +364,8 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
     if bad.any():
         notes.append(f"{int(bad_rear.sum())} samples without a rear-frame fit, "
                      f"{int(bad_steer.sum())} without a steer angle: interpolated")
-    angles = [_fill(t, np.where(bad_rear, np.nan, yaw)), _fill(t, roll), _fill(t, steer)]
+    angles = [fill_gaps(t, np.where(bad_rear, np.nan, yaw)), fill_gaps(t, roll),
+              fill_gaps(t, steer)]
     if lowpass_hz:
         fs = run.sample_rate_hz
         if lowpass_hz >= fs / 2:
@@ -372,7 +373,7 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
         sos = signal.butter(4, lowpass_hz, fs=fs, output="sos")
         angles = [signal.sosfiltfilt(sos, a) for a in angles]
     return Kinematics(t_s=t, yaw_rad=angles[0], roll_rad=angles[1], steer_rad=angles[2],
-                      crank_rad=_fill(t, crank_u), rear_rms_m=rms_b, fork_rms_m=rms_f,
+                      crank_rad=fill_gaps(t, crank_u), rear_rms_m=rms_b, fork_rms_m=rms_f,
                       repaired_fraction=float(bad.mean()), notes=notes, valid=~bad)
 
 

@@ -1,5 +1,15 @@
-"""Non-linear bicycle-rider models (thesis Sec 3.1.1.3, Fig 3.4): symbolic derivation with
-SymBRiM/sympy (:mod:`.model`), cached generated code (:mod:`.codegen`), numeric evaluation and
-linearisation (:mod:`.numeric`), parameter sets of the thesis models (:mod:`.parameters`), the
-arm loops of model CF (:mod:`.arms`) and the linear-correction substitute HS
-(:mod:`.substitute`)."""
+"""Non-linear bicycle-rider models (thesis Sec 3.1.1.3, Fig 3.4).
+
+Modules, leaves first (``tests/test_imports.py`` keeps the imports acyclic):
+
+* :mod:`.model` -- symbolic derivation with SymBRiM/sympy; :mod:`.codegen` -- its cached
+  generated code; :mod:`.numeric` -- numeric evaluation and linearisation of a parametrised
+  model (:class:`.numeric.NonlinearModel`).
+* :mod:`.rigid` -- rigid-body mass algebra (:class:`.rigid.RigidPart`); :mod:`.settings` --
+  ``nonlinear_models.yaml``; :mod:`.bicycle_data` -- the one cached BicycleParameters/Yeadon
+  load; :mod:`.prescribed` -- prescribed motion as Fourier series.
+* :mod:`.arms` -- the arm loops of CF; :mod:`.leg_bodies` -- legs and cranks as bodies over a
+  revolution; :mod:`.bodies` -- the benchmark parameters of each thesis model;
+  :mod:`.substitute` -- the linear-correction substitute HS; :mod:`.models` -- the NT and NP
+  models ready to integrate; :mod:`.sweep` -- NT/NP time solutions on the speed x cadence grid.
+"""

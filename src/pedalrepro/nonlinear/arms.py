@@ -34,31 +34,17 @@ ball-and-socket joints at the hands. Neither adds degrees of freedom. Here:
 
 from __future__ import annotations
 
-import contextlib
-import io
-import warnings
 from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
 
-from .. import params, paths
-from . import model as _model
+from . import bicycle_data
+from . import model as symbolic
+from .rigid import RigidPart, combine, point_mass
 
 #: Yeadon -> bicycle (benchmark) axes: BicycleParameters ``rider.yeadon_vec_to_bicycle_vec``.
 _YEADON_TO_BIKE = np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
-
-
-@dataclass(frozen=True)
-class Part:
-    """Mass (kg), COM (3,) and central inertia (3 x 3, kg m^2) in the benchmark frame."""
-
-    mass: float
-    com: np.ndarray
-    inertia: np.ndarray
-
-    def as_tuple(self) -> tuple[float, np.ndarray, np.ndarray]:
-        return self.mass, self.com, self.inertia
 
 
 @dataclass(frozen=True)
@@ -73,30 +59,18 @@ class YeadonArms:
     shoulder: np.ndarray
     elbow: np.ndarray
     grip: np.ndarray
-    upper: Part
-    forearm: Part
-    hand: Part
-    segments: tuple[Part, ...]
-
-
-def _combine(parts) -> Part:
-    """One part from several (:func:`pedalrepro.nonlinear.parameters._combine`)."""
-    from .parameters import _combine as combine
-
-    return Part(*combine([p.as_tuple() for p in parts]))
+    upper: RigidPart
+    forearm: RigidPart
+    hand: RigidPart
+    segments: tuple[RigidPart, ...]
 
 
 @cache
 def yeadon_arms(bicycle: str = "Browser") -> YeadonArms:
     """Arm geometry and inertia of rider Jason on ``bicycle`` from BicycleParameters/Yeadon."""
-    import bicycleparameters as bp
     from bicycleparameters.rider import yeadon_vec_to_bicycle_vec
 
-    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
-        warnings.simplefilter("ignore")
-        bike = bp.Bicycle(bicycle, pathToData=str(paths.PARAMETERS / "bicycleparameters"),
-                          forceRawCalc=bicycle == "Stratos")
-        bike.add_rider("Jason", reCalc=True)
+    bike = bicycle_data.load(bicycle, rider=True).bicycle
     human = bike.human
     measured, benchmark = bike.parameters["Measured"], bike.parameters["Benchmark"]
 
@@ -104,20 +78,20 @@ def yeadon_arms(bicycle: str = "Browser") -> YeadonArms:
         return yeadon_vec_to_bicycle_vec(np.asarray(v, float).reshape(3, 1), measured,
                                          benchmark)[:, 0].astype(float)
 
-    def part(obj) -> Part:
+    def part(obj) -> RigidPart:
         inertia = _YEADON_TO_BIKE @ np.asarray(obj.inertia, float) @ _YEADON_TO_BIKE.T
-        return Part(float(obj.mass), point(obj.center_of_mass), inertia)
+        return RigidPart(float(obj.mass), point(obj.center_of_mass), inertia)
 
     # B = right arm (bicycle y > 0); yeadon solid order: b2, b3 forearm; b4, b5, b6 hand
     # (wrist -> base of thumb -> knuckles -> finger tips); b4's pos is the base of the thumb.
-    forearm = _combine([part(s) for s in human.B2.solids[:2]])
-    hand = _combine([part(s) for s in human.B2.solids[2:]])
+    forearm = combine(part(s) for s in human.B2.solids[:2])
+    hand = combine(part(s) for s in human.B2.solids[2:])
     return YeadonArms(point(human.B1.pos), point(human.B1.end_pos),
                       point(human.B2.solids[2].pos), part(human.B1), forearm, hand,
                       tuple(part(s) for s in (human.A1, human.A2, human.B1, human.B2)))
 
 
-def rod_particles(part: Part, start: np.ndarray, end: np.ndarray) -> tuple[float, float, float,
+def rod_particles(part: RigidPart, start: np.ndarray, end: np.ndarray) -> tuple[float, float, float,
                                                                            float]:
     """Three particles of a rod ``start -> end`` with the part's mass, COM, transverse inertia.
 
@@ -155,7 +129,7 @@ class ArmLoop:
     def elbow(self, grip: np.ndarray | None = None) -> np.ndarray:
         """Closed-form elbow (benchmark frame; the plane ``y = S_y`` is the same as Moore's)."""
         h = self.grip if grip is None else grip
-        return np.array(_model.arm_loop_elbow(self.shoulder, h, self.normal, self.a, self.b,
+        return np.array(symbolic.arm_loop_elbow(self.shoulder, h, self.normal, self.a, self.b,
                                               self.sign, sqrt=np.sqrt))
 
     def mirrored(self) -> ArmLoop:
@@ -258,14 +232,13 @@ def steer_reach_rad(loop: ArmLoop, bench: dict) -> float:
     return lo
 
 
-def fixed_parts(loop: ArmLoop) -> tuple[list[Part], list[Part]]:
+def fixed_parts(loop: ArmLoop) -> tuple[list[RigidPart], list[RigidPart]]:
     """Point masses of both arms fixed in the rear frame (at S) and the front frame (at H)."""
-    zero = np.zeros((3, 3))
     rear, front = [], []
     for side in (1.0, -1.0):
         mirror = np.array([1.0, side, 1.0])
-        rear.append(Part(loop.upper[0], loop.shoulder * mirror, zero))
-        front.append(Part(loop.forearm[1], loop.grip * mirror, zero))
+        rear.append(point_mass(loop.upper[0], loop.shoulder * mirror))
+        front.append(point_mass(loop.forearm[1], loop.grip * mirror))
     return rear, front
 
 
@@ -308,23 +281,3 @@ def nominal_posture(arms: YeadonArms | None = None) -> dict[str, float]:
             "elbow_lateral_offset_m": float(y.elbow[1] - y.shoulder[1]),
             "grip_lateral_offset_m": float(r[1]),
             "flexion_axis_tilt_rad": float(np.arccos(loop.normal[1]))}
-
-
-def original_seat_model(model: str = "CF") -> params.LinearModel:
-    """Fig E.1: CF with the original 0.77 m seat tube + post (Sec 3.2.1, Appendix E).
-
-    The project's own CF linearised (legs fixed at crank angle 0, as the NT model) with the rider
-    without arms, shoulders included, *not* lowered: the hands stay on the handlebar, so the arm
-    loop closes with a more extended elbow than at the 0.72 m seat.
-    """
-    from . import parameters as nlp
-    from .numeric import benchmark_matrices
-    from .sweep import nt_model
-
-    if model == "benchmark" or nlp.settings()["models"][model]["legs"] != "city":
-        raise ValueError(f"{model}: the seat was lowered on the city bicycle only (Sec 2.1.1)")
-    nl = nt_model(model, original_seat=True)
-    mats = benchmark_matrices(nl)
-    return params.LinearModel(f"{model} (0.77 m seat)", *(mats[k] for k in
-                                                          ("M", "C1", "K0", "K2")),
-                              g=nl.bench["g"])

@@ -1,11 +1,14 @@
 """Derive once, generate numeric code once: the on-disk cache of the non-linear models.
 
-The symbolic derivation (:func:`pedalrepro.nonlinear.model.derive`, about a minute) is turned
-into a plain Python module with common-subexpression elimination (``sympy.cse``) and written to
-a cache folder keyed by a hash of the model options, the model source and the sympy/symbrim
-versions. A rerun imports the generated module and never re-derives. The generated functions
-take scalar arguments and call ``sin``/``cos``/``sqrt`` from a namespace chosen at load time:
-``math`` for simulation (fast scalar code) or ``cmath`` for complex-step linearisation.
+The symbolic derivation (:func:`pedalrepro.nonlinear.model.derive`, minutes for the arm loops)
+is turned into a plain Python module and into C functions with common-subexpression elimination
+(``sympy.cse``), both written to a cache folder keyed by a hash of the model options, the model
+source, this generator and the sympy/symbrim versions (:func:`cache_key`). A rerun imports the
+generated module and never re-derives; the compiled library (:mod:`.library`: the generated C
+plus the hand-written driver and integrator) is rebuilt from the cached C when only those
+hand-written C files change. The generated Python functions take scalar arguments and call
+``sin``/``cos``/``sqrt`` from a namespace chosen at load time: ``math`` for simulation (fast
+scalar code) or ``cmath`` for complex-step linearisation.
 """
 
 from __future__ import annotations
@@ -21,28 +24,29 @@ from types import SimpleNamespace
 
 import sympy as sm
 
+from ..integrator.build import cache_root
 from . import model as _model
 
 #: Generated-code format version (bump when the generator changes).
-CODEGEN_VERSION = "2"
+CODEGEN_VERSION = "3"
 
 
 def cache_dir() -> Path:
-    """Folder of the generated model code: ``$PEDALREPRO_CACHE`` or ``~/.cache/pedalrepro``."""
-    env = os.environ.get("PEDALREPRO_CACHE")
-    base = Path(env) if env else Path.home() / ".cache" / "pedalrepro"
-    return base / "nonlinear"
+    """Folder of the generated model code: ``$PEDALREPRO_CACHE/nonlinear`` or
+    ``~/.cache/pedalrepro/nonlinear``."""
+    return cache_root() / "nonlinear"
 
 
-#: The sources the generated code depends on, read once at import: a process that imported the
-#: model before its file was edited must not store its (old) derivation under the new file's key.
+#: The sources the generated code depends on (the derivation and this generator; not the
+#: hand-written C, which only needs a recompile), read once at import: a process that imported
+#: the model before its file was edited must not store its (old) derivation under the new key.
 _SOURCES_AT_IMPORT: tuple[bytes, ...] = (
-    Path(_model.__file__).read_bytes(), Path(__file__).read_bytes(),
-    Path(__file__).with_name("rhs_driver.c").read_bytes())
+    Path(_model.__file__).read_bytes(), Path(__file__).read_bytes())
 
 
 def cache_key(options: _model.ModelOptions) -> str:
-    """Hash of everything the generated code depends on."""
+    """Hash of everything the generated code depends on: ``model.py``, ``codegen.py``, the
+    sympy and symbrim versions and the options (changes whenever the derivation can)."""
     h = hashlib.sha256()
     for text in _SOURCES_AT_IMPORT:
         h.update(text)
@@ -115,18 +119,34 @@ def _derive_cached(options: _model.ModelOptions) -> _model.SymbolicModel:
 
 
 def generated_source(options: _model.ModelOptions) -> Path:
-    """Path of the generated module, deriving and generating it only when not cached."""
-    folder = cache_dir()
-    path = folder / f"{cache_key(options)}.py"
-    if path.exists():
-        return path
-    folder.mkdir(parents=True, exist_ok=True)
-    sym = _derive_cached(options)
-    text = _source(sym)
+    """Path of the generated Python module, deriving and generating it only when not cached."""
+    return _generate(options)[0]
+
+
+def generated_c(options: _model.ModelOptions) -> Path:
+    """Path of the generated C functions ``constraint_matrix`` and ``dynamics`` (cached)."""
+    return _generate(options)[1]
+
+
+def _write(path: Path, text: str) -> None:
     tmp = path.with_suffix(f".tmp{os.getpid()}")
     tmp.write_text(text)
     tmp.replace(path)  # atomic: parallel jobs never read a half-written file
-    return path
+
+
+def _generate(options: _model.ModelOptions) -> tuple[Path, Path]:
+    folder = cache_dir()
+    key = cache_key(options)
+    py, c = folder / f"{key}.py", folder / f"{key}.gen.c"
+    if py.exists() and c.exists():
+        return py, c
+    folder.mkdir(parents=True, exist_ok=True)
+    sym = _derive_cached(options)
+    if not c.exists():
+        _write(c, c_source(sym))
+    if not py.exists():
+        _write(py, _source(sym))
+    return py, c
 
 
 @cache
@@ -151,15 +171,13 @@ def load(options: _model.ModelOptions, complex_step: bool = False) -> SimpleName
 
 
 # ---------------------------------------------------------------------------------------------
-# Compiled right-hand side: the same cse'd expressions printed as C99, plus a small hand-written
-# solver (dependent speeds from A u = 0, then the 13 x 13 Lagrange system), built with the
-# system C compiler into a shared library and called through ctypes. About 100 times faster than
-# the generated Python; the Python path stays the reference (tests compare the two).
-
-_C_DRIVER_FILE = Path(__file__).with_name("rhs_driver.c")
+# The same cse'd expressions printed as C99 (compiled with the hand-written driver by
+# pedalrepro.nonlinear.library; about 100 times faster than the generated Python, which stays the
+# reference: tests compare the two).
 
 
-def _c_source(sym: _model.SymbolicModel) -> str:
+def c_source(sym: _model.SymbolicModel) -> str:
+    """C99 source of ``constraint_matrix(q, p, A)`` and ``dynamics(q, u, p, s, M, F, b)``."""
     from sympy.printing.c import C99CodePrinter
 
     printer = C99CodePrinter()
@@ -195,28 +213,4 @@ def _c_source(sym: _model.SymbolicModel) -> str:
     lines += body("dynamics", "const double *q, const double *u, const double *p, "
                   "const double *s, double *M, double *F, double *b",
                   [("M", list(sym.M)), ("F", list(sym.F)), ("b", list(sym.b))])
-    return "\n".join(lines) + "\n" + _C_DRIVER_FILE.read_text()
-
-
-def compiled_library(options: _model.ModelOptions) -> Path | None:
-    """Path of the compiled right-hand side (built once, cached), or None without a C compiler."""
-    import shutil
-    import subprocess
-
-    folder = cache_dir()
-    so = folder / f"{cache_key(options)}.so"
-    if so.exists():
-        return so
-    cc = shutil.which(os.environ.get("CC", "gcc")) or shutil.which("cc")
-    if cc is None:
-        return None
-    sym = _derive_cached(options)
-    folder.mkdir(parents=True, exist_ok=True)
-    c_file = folder / f"{cache_key(options)}.{os.getpid()}.c"  # per process: no torn reads
-    c_file.write_text(_c_source(sym))
-    tmp = so.with_suffix(f".tmp{os.getpid()}.so")
-    subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file), "-lm"],
-                   check=True, capture_output=True)
-    tmp.replace(so)
-    c_file.replace(folder / f"{cache_key(options)}.c")  # kept beside the library for reading
-    return so
+    return "\n".join(lines) + "\n"

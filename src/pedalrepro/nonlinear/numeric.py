@@ -18,29 +18,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from functools import cache
 
 import numpy as np
 
-from . import codegen, model
+from . import codegen, library, model
 from .model import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
 
 ZERO_SPEC: Callable[[float], np.ndarray] | None = None
-
-
-@cache
-def _load_library(options: model.ModelOptions):
-    """ctypes handle of the compiled right-hand side, or None (no C compiler)."""
-    import ctypes
-
-    path = codegen.compiled_library(options)
-    if path is None:
-        return None
-    lib = ctypes.CDLL(str(path))
-    dp = ctypes.c_void_p
-    lib.full_rhs.argtypes = [dp, dp, dp, ctypes.c_double, ctypes.c_double, dp, dp]
-    lib.full_rhs.restype = ctypes.c_int
-    return lib
 
 
 def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
@@ -114,7 +98,7 @@ class NonlinearModel:
         substitute model HS. ``None``: no correction (all other models).
     arm_parameters
         With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
-        (:func:`pedalrepro.nonlinear.parameters.model_bodies`).
+        (:func:`pedalrepro.nonlinear.bodies.model_bodies`).
     steer_limit_rad
         Runs end like a fall when ``|steer|`` reaches this angle (arm loops: beyond it the arms
         cannot reach the handlebar, :func:`pedalrepro.nonlinear.arms.steer_reach_rad`).
@@ -132,7 +116,7 @@ class NonlinearModel:
 
     def __post_init__(self) -> None:
         self._code = codegen.load(self.options)
-        self._lib = _load_library(self.options) if self.compiled else None
+        self.lib = library.load_library(self.options) if self.compiled else None
         values = (correction_parameters(self.linear_correction) | moore_parameters(self.bench)
                   | self.leg_parameters | self.arm_parameters)
         missing = [n for n in self._code.PARAMS if n not in values]
@@ -144,7 +128,7 @@ class NonlinearModel:
             raise ValueError("a model with prescribed legs needs spec(t)")
         self._zero_spec = [0.0] * self.n_spec
         self._zero_spec_arr = np.zeros(max(self.n_spec, 1))
-        self._p_arr = np.ascontiguousarray(self.p, dtype=float)
+        self.p_array = np.ascontiguousarray(self.p, dtype=float)
 
     # -- geometry -----------------------------------------------------------------------------
     @property
@@ -205,15 +189,15 @@ class NonlinearModel:
     def rhs(self, t: float, x, torque=(0.0, 0.0)) -> np.ndarray:
         """State derivative ``x'`` (the equations of motion in first-order form).
 
-        Uses the compiled library when available (:func:`codegen.compiled_library`), else the
+        Uses the compiled library when available (:func:`library.compiled_library`), else the
         generated Python (:meth:`rhs_python`, the reference).
         """
-        if self._lib is None:
+        if self.lib is None:
             return self.rhs_python(t, x, torque)
         s = self.spec(t) if self.spec is not None else self._zero_spec_arr
         xa = np.ascontiguousarray(x, dtype=float)
         out = np.empty(6)
-        status = self._lib.full_rhs(xa.ctypes.data, self._p_arr.ctypes.data,
+        status = self.lib.full_rhs(xa.ctypes.data, self.p_array.ctypes.data,
                                     np.ascontiguousarray(s, dtype=float).ctypes.data,
                                     float(torque[0]), float(torque[1]), out.ctypes.data, None)
         if status == 3:
@@ -236,7 +220,7 @@ class NonlinearModel:
     def energy_drift(self, t_s, states) -> tuple[float, np.ndarray]:
         """Largest relative change of the total energy over a run, and the energies (J).
 
-        ``t_s`` (n,) and ``states`` (6, n) as in :class:`pedalrepro.simulate.Simulation`. With no
+        ``t_s`` (n,) and ``states`` (6, n) as in :class:`pedalrepro.integrator.Simulation`. With no
         dissipation and scleronomic constraints the energy is constant (Sec 3.1.1.3 check).
         """
         energy = np.array([self.energy_J(t, states[:, k]) for k, t in enumerate(t_s)])

@@ -25,18 +25,16 @@ from functools import cache
 import numpy as np
 
 from .. import params
-from . import parameters as nlp
+from .bodies import legs_fixed, model_bodies
 from .numeric import NonlinearModel, benchmark_matrices
+from .settings import model_options, model_spec
 
 MATRICES: tuple[str, ...] = ("M", "C1", "K0", "K2")
 
 
 def substitute_spec(model: str) -> dict | None:
     """The ``substitute`` entry of ``nonlinear_models.yaml`` for ``model`` (None: own bodies)."""
-    models = nlp.settings()["models"]
-    if model not in models:
-        raise KeyError(f"no non-linear model {model!r}: expected one of {sorted(models)}")
-    return models[model].get("substitute")
+    return model_spec(model).get("substitute")
 
 
 def is_substitute(model: str) -> bool:
@@ -53,8 +51,8 @@ def body_linearisation(model: str) -> dict[str, np.ndarray]:
     """
     spec = substitute_spec(model)
     body = spec["body_of"] if spec else model
-    return benchmark_matrices(NonlinearModel(nlp.legs_fixed(body), nlp.model_options(body),
-                                             arm_parameters=nlp.model_bodies(body)[1]))
+    return benchmark_matrices(NonlinearModel(legs_fixed(body), model_options(body),
+                                             arm_parameters=model_bodies(body)[1]))
 
 
 @cache

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import spectral
-from ..simulate import Simulation, harmonic_torque, simulate, simulate_compiled
-from . import parameters as nlp
-from . import substitute
+from ..integrator import Simulation
+from .models import np_model, nt_model
 from .numeric import NonlinearModel
+from .simulate import simulate
 
 METHODS: tuple[str, ...] = ("NT", "NP")
 
@@ -33,6 +33,10 @@ class RunSettings:
     atol: float
     fall_roll_rad: float
     method: str = "RK45"
+    #: compiled RK45 variant (:data:`pedalrepro.integrator.VARIANTS`): "hermite", the scheme the
+    #: NT/NP tables were made with ("scipy" reproduces solve_ivp's RK45 step for step and would
+    #: change them at the tolerance level)
+    variant: str = "hermite"
 
     @classmethod
     def from_config(cls, cfg: dict) -> RunSettings:
@@ -41,48 +45,20 @@ class RunSettings:
                    nl["fall_roll_rad"], nl["method"])
 
 
-def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
-    """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3).
-
-    CF carries its arm loops (:mod:`pedalrepro.nonlinear.arms`); HS is a substitute
-    (:mod:`pedalrepro.nonlinear.substitute`): its rigid-rider body plus the linear correction
-    to Appendix B. ``original_seat``: the city rider at the original 0.77 m seat (Fig E.1).
-    """
-    return NonlinearModel(nlp.legs_fixed(name, original_seat), nlp.model_options(name),
-                          linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name, original_seat)[1],
-                          steer_limit_rad=nlp.steer_limit_rad(name, original_seat))
-
-
-def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
-    """The NP model at one cadence: legs and cranks as bodies with prescribed motion."""
-    leg_params, spec, mean = nlp.leg_bodies(name, cadence_rad_s)
-    return NonlinearModel(nlp.without_legs(name, mean), nlp.model_options(name, legs=True),
-                          leg_params, spec, linear_correction=substitute.linear_correction(name),
-                          arm_parameters=nlp.model_bodies(name)[1],
-                          steer_limit_rad=nlp.steer_limit_rad(name))
-
-
 def run(method: str, name: str, speed_m_s: float, omega_rad_s: float, harmonics,
         settings: RunSettings, nt: NonlinearModel | None = None) -> Simulation | None:
     """One time solution; ``None`` at zero cadence (no forcing: the upright motion persists)."""
     if omega_rad_s <= 0:
         return None
-    kw = dict(rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad)
     if method not in METHODS:
         raise ValueError(f"unknown non-linear method {method!r}: expected one of {METHODS}")
     nl = (nt if nt is not None else nt_model(name)) if method == "NT" else np_model(
         name, omega_rad_s)
-    if settings.method == "RK45" and nl._lib is not None:
-        # the same RK45 scheme, whole run compiled (pedalrepro.simulate.simulate_compiled)
-        return simulate_compiled(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
-                                 harmonics=harmonics if method == "NT" else None,
-                                 omega_rad_s=omega_rad_s, **kw)
-    kw["method"] = settings.method
-    if method == "NT":
-        return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
-                        torque=harmonic_torque(harmonics, omega_rad_s), **kw)
-    return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz, **kw)
+    # NT: harmonic torques (Eq 3.14); NP: the prescribed leg motion only (in the model)
+    return simulate(nl, speed_m_s, settings.duration_s, settings.sample_rate_hz,
+                    harmonics=harmonics if method == "NT" else None, omega_rad_s=omega_rad_s,
+                    rtol=settings.rtol, atol=settings.atol, fall_roll_rad=settings.fall_roll_rad,
+                    method=settings.method, variant=settings.variant)
 
 
 def amplitudes(sim: Simulation | None, omega_rad_s: float, sample_rate_hz: float,

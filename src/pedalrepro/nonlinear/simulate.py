@@ -1,0 +1,160 @@
+"""Time solutions of a non-linear model under its forcing, through the one fall-event integrator.
+
+:class:`ForcedModel` is a :class:`pedalrepro.integrator.System`: a
+:class:`.numeric.NonlinearModel` with the pedalling torques of Eq 3.14 (harmonics at a cadence)
+and/or its prescribed leg motion (``model.spec``). Its right-hand side runs in Python
+(``model.rhs``, the reference) or in C (``forced_rhs`` of ``rhs_driver.c``, compiled with the
+integrator ``pedalrepro/integrator/dopri.c``: :mod:`.library`). :func:`simulate` is the run of
+the NT/NP sweeps (Sec 3.1.2.1): upright straight-ahead start at a speed, sampled on a grid.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..integrator import CompiledRhs, Simulation, harmonic_torque, integrate
+from .numeric import NonlinearModel
+
+
+class _Forcing(ctypes.Structure):
+    """``forcing_t`` of ``rhs_driver.c``."""
+
+    _fields_ = [("n_harm", ctypes.c_int), ("harm_w", ctypes.c_void_p),
+                ("roll_re", ctypes.c_void_p), ("roll_im", ctypes.c_void_p),
+                ("steer_re", ctypes.c_void_p), ("steer_im", ctypes.c_void_p),
+                ("n_spec", ctypes.c_int), ("n_four", ctypes.c_int), ("omega", ctypes.c_double),
+                ("four_re", ctypes.c_void_p), ("four_im", ctypes.c_void_p),
+                ("slope", ctypes.c_void_p), ("p", ctypes.c_void_p)]
+
+
+@dataclass
+class ForcedModel:
+    """A non-linear model with its forcing, ready for :func:`pedalrepro.integrator.integrate`.
+
+    Parameters
+    ----------
+    model
+        The parametrised model (its prescribed legs, if any, in ``model.spec``).
+    harmonics, omega_rad_s
+        Pedalling torques of Eq 3.14 (``n``, ``roll``, ``steer``) at cadence ``omega_rad_s``
+        (none when ``harmonics`` is None or ``omega_rad_s`` is 0).
+    torque
+        Instead of ``harmonics``: any ``t -> (roll torque, steer torque)`` (N m); Python only.
+
+    State ``[roll, pitch, steer, roll rate, rear wheel rate, steer rate]``
+    (:mod:`.numeric`); ``steer_limit_rad`` is the model's (arm reach of CF).
+    """
+
+    model: NonlinearModel
+    harmonics: object | None = None
+    omega_rad_s: float = 0.0
+    torque: Callable[[float], tuple[float, float]] | None = None
+    roll_index: int = 0
+    steer_index: int = 2
+    _torque: Callable | None = field(default=None, init=False, repr=False)
+    _compiled: CompiledRhs | None = field(default=None, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.torque is not None and self.harmonics is not None:
+            raise ValueError("give harmonics or torque, not both")
+        self._torque = self.torque
+        if self._torque is None and self.harmonics is not None and self.omega_rad_s > 0:
+            self._torque = harmonic_torque(self.harmonics, self.omega_rad_s)
+
+    @property
+    def steer_limit_rad(self) -> float:
+        return float(self.model.steer_limit_rad)
+
+    def rhs(self, t: float, x: np.ndarray) -> np.ndarray:
+        """State derivative (``model.rhs`` with the torques at ``t``)."""
+        if self._torque is None:
+            return self.model.rhs(t, x)
+        return self.model.rhs(t, x, self._torque(t))
+
+    def compiled(self) -> CompiledRhs | None:
+        """``forced_rhs`` of the model's library with this forcing, or None (no compiler, or a
+        Python ``torque``)."""
+        if self._compiled is not None:
+            return self._compiled
+        lib = self.model.lib
+        if lib is None or self.torque is not None:
+            return None
+        keep = []
+
+        def ptr(a) -> int:
+            a = np.ascontiguousarray(a, dtype=float)
+            keep.append(a)
+            return a.ctypes.data
+
+        fc = _Forcing()
+        if self.harmonics is not None and self.omega_rad_s > 0:
+            n = np.asarray(self.harmonics.n, dtype=float)
+            w = n * self.omega_rad_s
+            roll = np.asarray(self.harmonics.roll, dtype=complex) * w**2
+            steer = np.asarray(self.harmonics.steer, dtype=complex) * w**2
+            fc.n_harm = len(n)
+            fc.harm_w, fc.roll_re, fc.roll_im = ptr(w), ptr(roll.real), ptr(roll.imag)
+            fc.steer_re, fc.steer_im = ptr(steer.real), ptr(steer.imag)
+        if self.model.n_spec:
+            spec = self.model.spec
+            fc.n_spec, fc.n_four, fc.omega = self.model.n_spec, spec.coef.shape[1], \
+                spec.omega_rad_s
+            fc.four_re, fc.four_im = ptr(spec.coef.real), ptr(spec.coef.imag)
+            fc.slope = ptr(spec.slope)
+        fc.p = ptr(self.model.p_array)
+        fn = ctypes.cast(lib.forced_rhs, ctypes.c_void_p).value
+        self._compiled = CompiledRhs(lib, fn, fc, keep)
+        return self._compiled
+
+
+def sample_times(duration_s: float, sample_rate_hz: float) -> np.ndarray:
+    """``t = 0, 1/fs, ...``: ``round(duration * fs) + 1`` samples."""
+    if duration_s <= 0 or sample_rate_hz <= 0:
+        raise ValueError("duration_s and sample_rate_hz must be positive")
+    return np.arange(int(round(duration_s * sample_rate_hz)) + 1) / sample_rate_hz
+
+
+def simulate(
+    model: NonlinearModel,
+    speed_m_s: float,
+    duration_s: float,
+    sample_rate_hz: float,
+    *,
+    harmonics=None,
+    omega_rad_s: float = 0.0,
+    torque: Callable[[float], tuple[float, float]] | None = None,
+    x0: np.ndarray | None = None,
+    rtol: float = 1e-6,
+    atol: float = 1e-8,
+    fall_roll_rad: float = 1.0,
+    method: str = "RK45",
+    compiled: bool = True,
+    variant: str = "hermite",
+) -> Simulation:
+    """Integrate a non-linear model from upright straight-ahead motion.
+
+    Parameters
+    ----------
+    model
+        The model (``rhs``, ``upright_state``).
+    speed_m_s
+        Initial forward speed (rear wheel rolling), m/s; roll, steer and their rates start at
+        zero (Sec 3.1.2.2: zero initial conditions) unless ``x0`` is given.
+    duration_s, sample_rate_hz
+        Output grid :func:`sample_times`.
+    harmonics, omega_rad_s, torque
+        The forcing (:class:`ForcedModel`).
+    rtol, atol, fall_roll_rad, method, compiled, variant
+        As :func:`pedalrepro.integrator.integrate`. The compiled RK45 runs when the model has a
+        library and no Python ``torque`` is given; ``variant="hermite"`` is the scheme of the
+        NT/NP sweeps.
+    """
+    t_s = sample_times(duration_s, sample_rate_hz)
+    x0 = model.upright_state(speed_m_s) if x0 is None else np.asarray(x0, dtype=float)
+    system = ForcedModel(model, harmonics, omega_rad_s, torque)
+    return integrate(system, x0, t_s, rtol=rtol, atol=atol, fall_roll_rad=fall_roll_rad,
+                     method=method, compiled=compiled, variant=variant)

@@ -1,0 +1,168 @@
+"""Import structure of ``src/pedalrepro`` (issue 10 part 3): no cycles, no private helpers
+shared across modules.
+
+A static scan (``ast``) of every module, imports inside functions included: an import hidden in a
+function body still makes two modules depend on each other, it only defers the failure. The
+graph has one node per module (``pedalrepro.nonlinear.arms``); ``from . import x`` where ``x`` is
+a submodule is an edge to that submodule, ``from .x import y`` an edge to ``x``. Importing a
+package's ``__init__`` is an edge to the package module, not to every submodule.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PACKAGE = "pedalrepro"
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(SRC).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def modules() -> dict[str, Path]:
+    return {module_name(p): p for p in sorted((SRC / PACKAGE).rglob("*.py"))}
+
+
+def _resolve(name: str, node: ast.ImportFrom, path: Path) -> str:
+    """Absolute module named by ``from <level dots><module> import ...`` in ``name``."""
+    if node.level == 0:
+        return node.module or ""
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    base = package[: len(package) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def imports(name: str, path: Path, known: set[str]) -> list[tuple[str, str, int]]:
+    """(imported module, imported attribute or "", line) for every import in the module."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out += [(a.name, "", node.lineno) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            target = _resolve(name, node, path)
+            for a in node.names:
+                sub = f"{target}.{a.name}"
+                if sub in known:  # from . import submodule
+                    out.append((sub, "", node.lineno))
+                else:
+                    out.append((target, a.name, node.lineno))
+    return [(m, attr, line) for m, attr, line in out if m == PACKAGE or m.startswith(PACKAGE + ".")]
+
+
+def graph() -> dict[str, set[str]]:
+    mods = modules()
+    known = set(mods)
+    edges: dict[str, set[str]] = {m: set() for m in mods}
+    for name, path in mods.items():
+        for target, _, _ in imports(name, path, known):
+            # importing pedalrepro.x.y runs pedalrepro.x's __init__ too; the edge that matters
+            # for a cycle is to the module itself
+            if target in known and target != name:
+                edges[name].add(target)
+    return edges
+
+
+def cycles(edges: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    out: list[list[str]] = []
+    counter = [0]
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(edges[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_scanner_finds_a_cycle_through_a_function_level_import():
+    """The scan sees imports inside functions (the way the nonlinear cycles used to hide)."""
+    edges = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert cycles(edges) == [["a", "b", "c"]]
+    src = "def f():\n    from . import b\n    return b\n"
+    tree = ast.parse(src)
+    found = [n for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+    assert len(found) == 1 and found[0].level == 1
+
+
+def test_no_import_cycles_in_pedalrepro():
+    edges = graph()
+    assert len(edges) > 30  # the scan found the package's modules
+    assert "pedalrepro.nonlinear.numeric" in edges["pedalrepro.nonlinear.sweep"] | {
+        d for m in edges["pedalrepro.nonlinear.sweep"] for d in edges[m]}
+    found = cycles(edges)
+    assert not found, "import cycles (imports inside functions included): " + "; ".join(
+        " <-> ".join(c) for c in found)
+
+
+def _private_uses() -> list[str]:
+    mods = modules()
+    known = set(mods)
+    bad = []
+    for name, path in mods.items():
+        for target, attr, line in imports(name, path, known):
+            if attr.startswith("_") and not attr.startswith("__") and target != name:
+                bad.append(f"{path.relative_to(SRC)}:{line} imports {target}.{attr}")
+    return bad
+
+
+def test_no_private_helper_used_across_modules():
+    bad = _private_uses()
+    assert not bad, "private helpers used across modules (make them public or move them): " + \
+        "; ".join(bad)
+
+
+@pytest.mark.parametrize("folder", ["tests", "scripts", "rules/scripts"])
+def test_tests_and_scripts_use_no_private_helper(folder):
+    """``module._name`` attribute access or ``from pedalrepro.x import _name`` outside src."""
+    root = SRC.parent / folder
+    bad = []
+    for path in sorted(root.glob("*.py")):
+        tree = ast.parse(path.read_text(), str(path))
+        aliases = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith(PACKAGE):
+                for a in node.names:
+                    if a.name.startswith("_") and not a.name.startswith("__"):
+                        bad.append(f"{path.name}:{node.lineno} imports {a.name}")
+                    aliases.add(a.asname or a.name)
+            elif isinstance(node, ast.Import):
+                aliases |= {(a.asname or a.name).split(".")[0] for a in node.names
+                            if a.name.startswith(PACKAGE)}
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and node.attr.startswith("_")
+                    and not node.attr.startswith("__") and isinstance(node.value, ast.Name)
+                    and node.value.id in aliases):
+                bad.append(f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}")
+    assert not bad, f"private helpers of pedalrepro used in {folder}: " + "; ".join(bad)
