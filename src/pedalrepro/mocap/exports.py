@@ -40,29 +40,22 @@ import numpy as np
 from .. import params, paths
 from .reader import (
     BICYCLES,
+    EXPORT_NAME,
+    EXPORT_SUFFIXES,
     M_TO_N,
     N_MARKERS,
     MocapFileError,
     Run,
+    is_export,
     parse_run_id,
 )
 
-#: Suffixes of the per-coordinate exports this module reads.
-EXPORT_SUFFIXES: tuple[str, ...] = (".xlsx", ".csv")
-#: File-name pattern of an export: run number, optional separator, coordinate letter.
-EXPORT_NAME = re.compile(r"^(?P<run>\d{4})[_\- ]?(?P<coord>[XYZxyz])$")
 PUBLIC_RUNS: Path = paths.PARAMETERS / "public_runs.yaml"
 _NS = "{http://schemas.openxmlformats.org/spreadsheetml/2006/main}"
 
 
 class IncompleteRunError(MocapFileError):
     """A run whose exports lack a coordinate file (the message names what is missing)."""
-
-
-def is_export(path: str | Path) -> bool:
-    """True for a file name of a per-coordinate export (``3045_X.xlsx``, ``3101Y.csv``)."""
-    p = Path(path)
-    return p.suffix.lower() in EXPORT_SUFFIXES and EXPORT_NAME.match(p.stem) is not None
 
 
 def export_parts(path: str | Path) -> tuple[int, str]:

@@ -240,12 +240,22 @@ FORMATS = ("the published run files RNNN.mat (MATLAB v5: t, x, y, z, xori, yori,
            "files beside it, `pedalrepro mocap import` converts them to RNNN.mat)")
 
 
+#: Suffixes of the per-coordinate exports (:mod:`pedalrepro.mocap.exports`).
+EXPORT_SUFFIXES: tuple[str, ...] = (".xlsx", ".csv")
+#: File-name stem of an export: run number, optional separator, coordinate letter.
+EXPORT_NAME = re.compile(r"^(?P<run>\d{4})[_\- ]?(?P<coord>[XYZxyz])$")
+
+
+def is_export(path: str | Path) -> bool:
+    """True for a file name of a per-coordinate export (``3045_X.xlsx``, ``3101Y.csv``)."""
+    p = Path(path)
+    return p.suffix.lower() in EXPORT_SUFFIXES and EXPORT_NAME.match(p.stem) is not None
+
+
 def check_mat_name(path: Path) -> None:
     """A clear error when ``path`` is not a ``.mat`` file (e.g. an export passed instead)."""
     if path.suffix.lower() == ".mat":
         return
-    from .exports import is_export
-
     kind = ("a per-coordinate export (one coordinate of every marker), not a run file"
             if is_export(path) else f"not a run file (suffix {path.suffix or 'none'!r})")
     raise MocapFileError(f"{path}: {kind}. Read are: {FORMATS}.")
