@@ -360,7 +360,7 @@ CHANGES = [
      LINEAR | NONLINEAR | MOCAP | {"section2_disturbance", "section2_numbers"}),
     ("linear", "linear.time_speed_step_m_s", 2.5,
      {"linear_time_la", "linear_time_ln", "nonlinear_time_chunk", "nonlinear_time",
-      "nonlinear_rd"},
+      "nonlinear_rd", "periodic_map"},
      SECTION2 | MOCAP | {"linear_eigen", "linear_ps", "linear_table_4_1", "nonlinear_codegen",
                          "nonlinear_codegen_variant", "nonlinear_linearisation"}),
     ("linear", "linear.eigen_speed_step_m_s", 0.04,
@@ -455,20 +455,23 @@ def _rules(script_names):
 
 
 @pytest.mark.parametrize("rel, expected", [
-    # hand-checked: BicycleParameters' files are read by nonlinear/parameters.py and arms.py,
-    # which the linearisation and the NT/NP sweeps import, and by own_bicycle.py (Jason rides
-    # the "Your own bicycle" example), and nothing else
+    # hand-checked: BicycleParameters' files are read by nonlinear/bicycle_data.py, which the
+    # calibration, the linearisation, the NT/NP sweeps and the periodic orbits import, and by
+    # own_bicycle.py (Jason rides the "Your own bicycle" example), and nothing else
     ("data/parameters/bicycleparameters/riders/Jason/RawData/JasonYeadonMeas.txt",
-     {"nonlinear_linearisation", "nonlinear_time_chunk", "nonlinear_time",
-      "own_bicycle_resonance"}),
+     {"nonlinear_calibration", "nonlinear_linearisation", "nonlinear_time_chunk",
+      "nonlinear_time", "own_bicycle_resonance", "periodic_map", "periodic_branch",
+      "periodic_tables"}),
     # the C driver: every rule compiling or loading the non-linear model
     ("src/pedalrepro/nonlinear/rhs_driver.c",
-     {"nonlinear_codegen_variant", "nonlinear_linearisation", "nonlinear_time_chunk",
-      "nonlinear_time"}),
+     {"nonlinear_codegen_variant", "nonlinear_calibration", "nonlinear_linearisation",
+      "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_branch",
+      "periodic_tables"}),
     # the figure style: every figure rule and the book (notebooks draw figures)
     ("src/pedalrepro/pedalrepro.mplstyle",
      {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
-      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "book"}),
+      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "periodic_figures",
+      "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
     ("data/parameters/validation_runs.yaml",
      {"linear_table_4_1", "mocap_runs", "mocap_extract", "validation_tables"}),

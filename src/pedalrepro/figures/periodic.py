@@ -46,11 +46,12 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
                    methods: Sequence[str] = ("NT", "NP")) -> plt.Figure:
     """Cadence amplitude maps of one model: PS, periodic orbit, simulation, and their RD.
 
-    Rows: ``<method> roll``, ``<method> steer``. Columns: the particular solution of the
-    model's own linearisation (PS); the periodic orbit by shooting, hatched where unstable
-    (``///``: a Floquet multiplier outside the unit circle; ``xxx``: no convergence); the
-    thesis's method (DFT of a simulation; shown only where the orbit is stable, runs that fell
-    marked ``x``); RD (Eq 3.26) of the simulation from the orbit, percent, stable orbits only.
+    Columns: roll, steer. Rows, for each method: the particular solution of the model's own
+    linearisation (PS); the periodic orbit by shooting, hatched where unstable (``///``: a
+    Floquet multiplier outside the unit circle; ``xxx``: no convergence); the thesis's method
+    (DFT of a simulation; shown only where the orbit is stable, runs that fell marked ``x``);
+    RD (Eq 3.26) of the simulation from the orbit, percent, stable orbits only. Drawn in rows so
+    that the figure fits the book's content width.
 
     Parameters
     ----------
@@ -58,71 +59,77 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
         Keyed by method: the ``periodic/thesis_<method>_<model>.npz`` and the
         ``time/<method>_<model>.npz`` arrays (same grid).
     """
-    rows = [(m, c) for m in methods for c in ("roll", "steer")]
-    fig, axes = plt.subplots(len(rows), 4, figsize=(13, 2.7 * len(rows)), sharex=True,
-                             sharey=True, squeeze=False)
+    panels = ("PS (own linearisation)", "periodic orbit", "simulation (stable orbits)",
+              "RD simulation vs orbit")
+    fig, axes = plt.subplots(len(methods) * len(panels), 2,
+                             figsize=(7.0, 1.75 * len(methods) * len(panels) + 1.2),
+                             sharex=True, sharey=True, squeeze=False, layout="constrained")
     amp_mesh = rd_mesh = None
-    for i, (method, coord) in enumerate(rows):
+    for a, method in enumerate(methods):
         o, s = orbits[method], sims.get(method)
         v, w = np.asarray(o["speed_m_s"]), np.asarray(o["omega_rad_s"])
         stable = np.asarray(o["stable"], bool)
-        orbit_amp = np.asarray(o[f"{coord}_amp_rad"], float)
-        amp_mesh = _mesh(axes[i, 0], v, w, np.asarray(o[f"ps_{coord}_amp_rad"]), AMP_NORM)
-        _mesh(axes[i, 1], v, w, orbit_amp, AMP_NORM)
-        _unstable(axes[i, 1], v, w, stable, o["converged"])
-        if s is not None:
-            sim_amp = np.where(stable, np.asarray(s[f"{coord}_amp_rad"], float), np.nan)
-            _mesh(axes[i, 2], v, w, sim_amp, AMP_NORM)
-            fell = np.asarray(s["fell"], bool)
-            vv, ww = np.meshgrid(v, w, indexing="ij")
-            axes[i, 2].plot(vv[fell], ww[fell], "x", color="0.3", ms=3)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                rd = np.abs(sim_amp - orbit_amp) / orbit_amp * 100.0
-            rd_mesh = _mesh(axes[i, 3], v, w, rd, RD_NORM, cmap="magma")
-        else:
-            for ax in axes[i, 2:]:
-                ax.text(0.5, 0.5, "no simulation", transform=ax.transAxes, ha="center")
-        for j, name in enumerate(("PS (own linearisation)", "periodic orbit",
-                                  "simulation (stable orbits)", "RD simulation vs orbit")):
-            axes[i, j].set_title(f"{model} {method} {coord}: {name}", fontsize=8)
+        for j, coord in enumerate(("roll", "steer")):
+            ax_ps, ax_orbit, ax_sim, ax_rd = (axes[a * len(panels) + k, j] for k in range(4))
+            orbit_amp = np.asarray(o[f"{coord}_amp_rad"], float)
+            amp_mesh = _mesh(ax_ps, v, w, np.asarray(o[f"ps_{coord}_amp_rad"]), AMP_NORM)
+            _mesh(ax_orbit, v, w, orbit_amp, AMP_NORM)
+            _unstable(ax_orbit, v, w, stable, o["converged"])
+            if s is not None:
+                sim_amp = np.where(stable, np.asarray(s[f"{coord}_amp_rad"], float), np.nan)
+                _mesh(ax_sim, v, w, sim_amp, AMP_NORM)
+                fell = np.asarray(s["fell"], bool)
+                vv, ww = np.meshgrid(v, w, indexing="ij")
+                ax_sim.plot(vv[fell], ww[fell], "x", color="0.3", ms=3)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rd = np.abs(sim_amp - orbit_amp) / orbit_amp * 100.0
+                rd_mesh = _mesh(ax_rd, v, w, rd, RD_NORM, cmap="magma")
+            else:
+                for ax in (ax_sim, ax_rd):
+                    ax.text(0.5, 0.5, "no simulation", transform=ax.transAxes, ha="center")
+            for ax, name in zip((ax_ps, ax_orbit, ax_sim, ax_rd), panels, strict=True):
+                ax.set_title(f"{model} {method} {coord}: {name}", fontsize=8)
     _axes_labels(axes)
-    fig.colorbar(amp_mesh, ax=axes[:, :3], label="cadence amplitude (rad)", shrink=0.6,
-                 location="bottom", aspect=40)
+    amp_axes = [axes[a * len(panels) + k, j] for a in range(len(methods)) for k in range(3)
+                for j in range(2)]
+    fig.colorbar(amp_mesh, ax=amp_axes, label="cadence amplitude (rad)", shrink=0.5)
     if rd_mesh is not None:
-        fig.colorbar(rd_mesh, ax=axes[:, 3], label="RD (%)", shrink=0.9, location="bottom",
-                     aspect=15)
+        rd_axes = [axes[a * len(panels) + 3, j] for a in range(len(methods)) for j in range(2)]
+        fig.colorbar(rd_mesh, ax=rd_axes, label="RD (%)", shrink=0.9)
     return fig
 
 
 def fig_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.Figure:
-    """Orbit amplitude maps of every model on the finer grid; unstable orbits hatched."""
+    """Orbit amplitude maps of every model on the finer grid (one row per model, roll and
+    steer); unstable orbits hatched."""
     models = list(fine)
-    fig, axes = plt.subplots(2, len(models), figsize=(3.3 * len(models), 5.8), sharex=True,
-                             sharey=True, squeeze=False)
+    fig, axes = plt.subplots(len(models), 2, figsize=(7.0, 2.1 * len(models) + 0.8),
+                             sharex=True, sharey=True, squeeze=False, layout="constrained")
     mesh = None
-    for j, model in enumerate(models):
+    for i, model in enumerate(models):
         d = fine[model]
         v, w = np.asarray(d["speed_m_s"]), np.asarray(d["omega_rad_s"])
-        for i, coord in enumerate(("roll", "steer")):
+        for j, coord in enumerate(("roll", "steer")):
             mesh = _mesh(axes[i, j], v, w, np.asarray(d[f"{coord}_amp_rad"], float), AMP_NORM)
             _unstable(axes[i, j], v, w, d["stable"], d["converged"])
             axes[i, j].set_title(f"{model} {method} {coord}", fontsize=9)
     _axes_labels(axes)
-    fig.colorbar(mesh, ax=axes, label="cadence amplitude of the orbit (rad)", shrink=0.8)
+    fig.colorbar(mesh, ax=axes, label="cadence amplitude of the orbit (rad)", shrink=0.6)
     return fig
 
 
 def fig_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
-    """Continuation diagram at the reference cadence: roll amplitude and the largest Floquet
-    multiplier modulus along each branch (solid: stable, dashed: unstable, markers: multiplier
-    crossings), the linear-limit branch scaled back to full torque (dotted), and the self-stable
-    speeds of the model's own linearisation (shaded)."""
+    """Continuation diagram at the reference cadence, one row per model: roll amplitude (left)
+    and the largest Floquet multiplier modulus (right) along each branch (solid: stable, dashed:
+    unstable, markers: multiplier crossings), the linear-limit branch scaled back to full torque
+    (dotted), and the self-stable speeds of the model's own linearisation (shaded)."""
     models = list(branches)
-    fig, axes = plt.subplots(2, len(models), figsize=(3.4 * len(models), 5.6), sharex=True,
-                             squeeze=False)
+    fig, axes = plt.subplots(len(models), 2, figsize=(7.0, 2.0 * len(models) + 0.6),
+                             sharex=True, squeeze=False, layout="constrained")
     colors = {"NT": "C0", "NP": "C1"}
     for j, model in enumerate(models):
         b = branches[model]
+        ax_amp, ax_mu = axes[j, 0], axes[j, 1]
         scales = np.atleast_1d(b["torque_scales"])
         for method in [str(m) for m in np.atleast_1d(b["methods"])]:
             for k, scale in enumerate(scales):
@@ -135,24 +142,25 @@ def fig_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
                 st = np.asarray(b[f"{key}stable"], bool)
                 label = f"{method}" if scale == 1 else f"{method} x{scale:g} (/{scale:g})"
                 style = ":" if scale != 1 else "-"
-                for ax, y in ((axes[0, j], amp), (axes[1, j], mu)):
+                for ax, y in ((ax_amp, amp), (ax_mu, mu)):
                     ax.plot(v, np.where(st, y, np.nan), style, color=colors.get(method, "k"),
-                            label=label if ax is axes[0, j] else None)
+                            label=label if ax is ax_amp else None)
                     ax.plot(v, np.where(st, np.nan, y), "--" if scale == 1 else ":",
                             color=colors.get(method, "k"), alpha=0.6)
                 for c in np.asarray(b[f"{key}crossing_values"]):
-                    axes[1, j].plot(c, 1.0, "o", mfc="none", color=colors.get(method, "k"))
+                    ax_mu.plot(c, 1.0, "o", mfc="none", color=colors.get(method, "k"))
         for lo, hi in np.asarray(b["linear_stable_ranges_m_s"]).reshape(-1, 2):
-            for ax in axes[:, j]:
+            for ax in axes[j, :]:
                 ax.axvspan(lo, hi, color="0.85", lw=0, zorder=0)
-        axes[0, j].set_title(f"{model}, {float(b['cadence_rpm']):g} rpm", fontsize=9)
-        axes[0, j].set_yscale("log")
-        axes[1, j].set_yscale("log")
-        axes[1, j].axhline(1.0, color="k", lw=0.6)
-        axes[1, j].set_xlabel("forward speed v (m/s)")
-    axes[0, 0].set_ylabel("roll amplitude (rad)")
-    axes[1, 0].set_ylabel("max |Floquet multiplier|")
-    axes[0, 0].legend(fontsize=7)
+        ax_amp.set_title(f"{model}, {float(b['cadence_rpm']):g} rpm", fontsize=9)
+        ax_amp.set_yscale("log")
+        ax_mu.set_yscale("log")
+        ax_mu.axhline(1.0, color="k", lw=0.6)
+        ax_amp.set_ylabel("roll amplitude (rad)")
+        ax_mu.set_ylabel("max |Floquet multiplier|")
+    for ax in axes[-1, :]:
+        ax.set_xlabel("forward speed v (m/s)")
+    axes[0, 0].legend(fontsize=8)
     return fig
 
 
