@@ -447,6 +447,7 @@ RULES_OF = {
     "nonlinear_time.py": {"nonlinear_time_chunk"},
     "nonlinear_merge.py": {"nonlinear_time"},
     "mocap_tables.py": {"validation_tables"},
+    "own_bicycle.py": {"own_bicycle_resonance"},
 }
 
 
