@@ -33,6 +33,7 @@ rule validation_figure_data:
         code=code_inputs("scripts/validation_figure_data.py"),
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
+        source=interm("mocap/source.json"),
     output:
         interm("figures/validation.npz"),
     params:
@@ -42,7 +43,7 @@ rule validation_figure_data:
     log:
         logfile("validation_figure_data"),
     message:
-        "Model maps and series of the example runs of Figs 4.2-4.10"
+        "Model maps and series of the example runs of Figs 4.2-4.10 and of the REAL run"
     script:
         "scripts/validation_figure_data.py"
 

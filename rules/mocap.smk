@@ -1,7 +1,10 @@
 # Rules of the mocap part (see rules/common.smk for helpers): the treadmill data (Sec 4.1),
 # Tables 4.1 and 4.2 and Figures 4.2-4.11. data_source (config): auto | figshare | synthetic
-# (DESIGN.md "Treadmill data: offline and honest"); outputs built from the synthetic stand-in say
-# so (data_source column, SYNTHETIC stamp, report status "not reproducible here").
+# (pedalrepro.mocap.prepare): auto = figshare when it can be had, else the stand-in plus the real
+# public-subset runs in $PEDALREPRO_DATA_DIR (or downloadable), each row labelled (data_source
+# column: figshare | synthetic | public_subset; SYNTHETIC stamp; report status "not reproducible
+# here" for synthetic rows). The data folder is not a tracked input: after adding files to it,
+# rerun with `snakemake -j2 -R mocap_runs`.
 
 # The mocap keys the synthetic stand-in uses (pedalrepro.mocap.synthetic, its `mocap_cfg`).
 MOCAP_STAND_IN_KEYS = ["duration_s", "sample_rate_hz", "marker_noise_m", "gaps_per_marker_per_min",
@@ -24,7 +27,7 @@ rule mocap_runs:
     benchmark:
         bench("mocap_runs")
     message:
-        "Treadmill run files (data_source: {params.data_source}; synthetic stand-in if offline)"
+        "Treadmill run files (data_source: {params.data_source}; offline: stand-in + real subset)"
     script:
         "scripts/mocap_runs.py"
 
@@ -37,6 +40,7 @@ rule mocap_extract:
     output:
         table=interm("mocap/measured.csv"),
         series=interm("mocap/series.npz"),
+        excluded=interm("mocap/excluded.csv"),
     params:
         lowpass_hz=config["mocap"]["angle_lowpass_hz"],
     log:
@@ -60,6 +64,7 @@ rule validation_tables:
         t41=table("table_4_1"),
         t42=table("table_4_2"),
         per_run=table("validation_runs"),
+        comparison=table("mocap_real_comparison"),
         report=f"{R}/tables/report/mocap.csv",
     log:
         logfile("validation_tables"),
@@ -70,7 +75,9 @@ rule validation_tables:
 
 
 REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
+# Figures 4.2-4.11 and the REAL run's panel are drawn by rules/figures.smk (figure registry).
 BOOK_INPUTS.extend(
     [table("table_4_1"), table("table_4_2"), table("validation_runs"),
-     interm("mocap/source.json"), interm("mocap/series.npz")]
+     table("mocap_real_comparison"), interm("mocap/source.json"), interm("mocap/series.npz"),
+     interm("mocap/excluded.csv"), interm("mocap/measured.csv")]
 )

@@ -22,7 +22,7 @@ from pedalrepro.figures import nonlinear as fig_nl  # noqa: E402
 from pedalrepro.figures import palette, registry  # noqa: E402
 
 #: Registered figures that are not thesis ids (checks shown beside a thesis figure).
-EXTRA = {"nonlinear_linearisation_vs_appendix_b"}
+EXTRA = {"nonlinear_linearisation_vs_appendix_b", "real_run_panel"}
 
 
 def test_registry_covers_every_thesis_figure_once():
@@ -182,3 +182,43 @@ def test_figure_data_names_a_missing_config_key(tmp_path):
 
     with pytest.raises(KeyError, match="linear.ps_speed_step_m_s"):
         figdata.write_linear({"gear_grid": str(tmp_path / "g.npz")}, {"harmonics": [1]})
+
+
+def test_validation_figure_data_keeps_the_real_run_apart(tmp_path):
+    """Figs 4.2-4.10 take their example runs from the build's main source only (a real
+    public-subset row is never pooled into the synthetic figures); the REAL run goes into the
+    real_* keys and its panel is drawn at most 7 in wide with text >= 8 pt (figures.save)."""
+    import pandas as pd
+
+    from pedalrepro import figdata
+    from pedalrepro.figures import validation as fv
+
+    rows = [dict(run_id=k + 1, system=s, speed_kmh=20.0, cadence_rpm=80.0,
+                 data_source="synthetic") for k, s in enumerate(("HS", "CF", "HR", "CR"))]
+    rows.append(dict(run_id=3045, system="HR", speed_kmh=25.0, cadence_rpm=82.39,
+                     data_source="public_subset"))
+    per_run = pd.DataFrame(rows)
+    t = np.arange(0.0, 20.0, 0.01)
+    series = {}
+    for r in rows:
+        key = f"public_{r['run_id']}" if r["data_source"] == "public_subset" else r["run_id"]
+        crank = 2 * np.pi * r["cadence_rpm"] / 60 * t
+        series.update({f"{key}_t_s": t, f"{key}_crank_rad": crank,
+                       f"{key}_roll_rad": 0.01 * np.sin(crank),
+                       f"{key}_steer_rad": 0.02 * np.sin(crank)})
+    out = figdata.validation(per_run, series, np.array([5.0, 6.0]), np.array([8.0, 9.0]), 6,
+                             "synthetic")
+    assert out["HR_run_ids"].tolist() == [3]  # not 3045
+    assert int(out["real_run_id"]) == 3045 and str(out["real_system"]) == "HR"
+    assert float(out["real_cadence_rpm"]) == pytest.approx(82.39, abs=1e-9)
+    source = {"data_source": "synthetic", "reason": "stand-in"}
+    with figures.style():
+        fig = fv.draw_real_run_panel(source, out)
+    assert fig.get_size_inches()[0] <= 7.0 + 1e-9
+    figures.save(fig, tmp_path / "real_run_panel.png")  # refuses wide figures or small text
+    assert (tmp_path / "real_run_panel.pdf").exists()
+    no_real = {k: v for k, v in out.items() if not k.startswith("real_")}
+    with figures.style():
+        fig = fv.draw_real_run_panel(source, no_real)
+    assert "No real public-subset run" in fig.axes[0].texts[0].get_text()
+    figures.save(fig, tmp_path / "no_real_run.png")

@@ -329,7 +329,8 @@ def test_cli_extract_writes_csv(stand_in, tmp_path):
     csv = tmp_path / "x.csv"
     assert cli.main(["mocap", "extract", str(out / f"{run_id:04d}.mat"), "--out", str(csv)]) == 0
     text = csv.read_text()
-    assert "cadence_rpm=" in text.splitlines()[1]
+    assert text.splitlines()[1] == "# analysis=full (60.00 s)"
+    assert "cadence_rpm=" in text.splitlines()[2]
     df = pd.read_csv(csv, comment="#")
     assert list(df.columns[:4]) == ["time_s", "roll_rad", "steer_rad", "yaw_rad"]
     assert _rms(df.roll_rad.to_numpy(), truth["roll_rad"]) < 1e-3
@@ -375,14 +376,19 @@ def test_cached_files_verified_against_registry(monkeypatch, tmp_path, stand_in)
     monkeypatch.setenv(fetch.ENV, str(data_dir))
     pup = fetch.make_pooch(registry=reg)
     assert fetch.resolve_source("auto", pup) == ("figshare",
-                                                 "all registry files cached and verified")
+                                                 "all registry run files cached and verified")
     assert fetch.run_files(pup, progressbar=False) == {run_id: data_dir / name}
-    # a wrongly hashed (altered) file: clear error naming it, nothing downloaded
+    # a wrongly hashed (altered) file: reported, removed, fetched again (offline here: fails
+    # with the file named)
     raw = bytearray((data_dir / name).read_bytes())
     raw[-10] ^= 0xFF
     (data_dir / name).write_bytes(bytes(raw))
-    with pytest.raises(fetch.HashMismatchError, match=name):
-        fetch.fetch(name, pup)
+    monkeypatch.setattr(pooch.Pooch, "fetch", _offline)
+    events = []
+    with pytest.raises(fetch.DataUnavailableError, match=name):
+        fetch.fetch(name, pup, events=events)
+    assert len(events) == 1 and "does not match the registry" in events[0]
+    assert "removed" in events[0] and not (data_dir / name).exists()
     with pytest.raises(KeyError, match="not in the registry"):
         fetch.verify(pup, "9999.mat")
 
@@ -399,7 +405,7 @@ def test_registry_listed_but_not_cached_offline(monkeypatch, tmp_path):
     assert fetch.resolve_source("auto", pup)[0] == "synthetic"
     with pytest.raises(fetch.DataUnavailableError):
         fetch.resolve_source("figshare", pup)
-    with pytest.raises(fetch.DataUnavailableError, match="cannot be reached"):
+    with pytest.raises(fetch.DataUnavailableError, match="3082.mat: cannot be downloaded"):
         fetch.run_files(pup, progressbar=False)
 
 

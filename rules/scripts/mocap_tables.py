@@ -1,4 +1,5 @@
-"""Snakemake script: Tables 4.1 and 4.2, the per-run comparison and the report part (Sec 4.2)."""
+"""Snakemake script: Tables 4.1 and 4.2, the per-run comparison, the real run's comparison with
+Table 4.1 (both amplitude methods) and the report part (Sec 4.2)."""
 
 import json
 import sys
@@ -10,19 +11,14 @@ from pedalrepro.mocap import runs
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 source = json.loads(open(snakemake.input.source).read())
-ds = source["data_source"]
 measured = pd.read_csv(snakemake.input.measured)
-index = runs.index_runs(snakemake.input.runs)
-cadences = dict(zip(measured.run_id, measured.cadence_rpm, strict=True))
-selection = runs.table_4_1_runs(index, cadences)
-model = pd.read_csv(snakemake.input.model)
-t41 = validation.table_4_1(measured, selection, model, ds)
-per_run = validation.per_run_table(measured, ds)
-t42 = validation.table_4_2(per_run, ds)
-t41.to_csv(snakemake.output.t41, index=False, float_format="%.6g")
-t42.to_csv(snakemake.output.t42, index=False, float_format="%.6g")
-per_run.to_csv(snakemake.output.per_run, index=False, float_format="%.6g")
-rows = validation.report_rows(t41, t42, params.published(), ds,
-                              "" if ds == "figshare" else source["reason"])
-report.write_rows(rows, snakemake.output.report)
-print(t41.to_string(), t42.to_string(), sep="\n", file=sys.stderr)
+main = measured[measured.data_source == source["data_source"]]
+selection = runs.table_4_1_runs(runs.index_runs(snakemake.input.runs),
+                                dict(zip(main.run_id, main.cadence_rpm, strict=True)))
+out = validation.chapter_4_tables(measured, selection, pd.read_csv(snakemake.input.model),
+                                  source, params.published())
+for key in ("t41", "t42", "per_run", "comparison"):
+    out[key].to_csv(snakemake.output[key], index=False, float_format="%.6g")
+report.write_rows(out["report"], snakemake.output.report)
+print(out["t41"].to_string(), out["t42"].to_string(), out["comparison"].to_string(), sep="\n",
+      file=sys.stderr)

@@ -143,37 +143,60 @@ def write_linear(outputs: Mapping[str, str], lin: Mapping) -> None:
 
 
 def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
-               omega_rad_s: np.ndarray, examples_per_system: int) -> dict[str, np.ndarray]:
+               omega_rad_s: np.ndarray, examples_per_system: int,
+               data_source: str | None = None) -> dict[str, np.ndarray]:
     """Figs 4.2-4.10: the particular-solution amplitude maps of the four systems on the given
     grid and the model's steady-state roll and steer phase-locked to the measured crank angle of
-    each system's example runs (:func:`pedalrepro.validation.example_runs`).
+    each system's example runs (:func:`pedalrepro.validation.example_runs`), and the REAL run's
+    panel: the first real public-subset run (:func:`pedalrepro.validation.real_example`).
+
+    The example runs are taken from the rows of ``data_source`` only (the build's main source,
+    ``source.json``; None: every row): real public-subset rows are never pooled into the
+    synthetic or figshare figures.
 
     Keys: ``speed_m_s``, ``omega_rad_s``, ``<S>_roll_amp_rad``, ``<S>_steer_amp_rad``,
-    ``<S>_run_ids`` and ``<S>_<k>_roll_rad``, ``<S>_<k>_steer_rad`` for example ``k``."""
+    ``<S>_run_ids`` and ``<S>_<k>_roll_rad``, ``<S>_<k>_steer_rad`` for example ``k``; when the
+    build has a real run, ``real_run_id``, ``real_system``, ``real_speed_kmh``,
+    ``real_cadence_rpm``, ``real_t_s``, ``real_roll_rad``, ``real_steer_rad``,
+    ``real_model_roll_rad``, ``real_model_steer_rad``."""
     from . import params
     from . import validation as val
 
     v, w = np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float)
     out: dict[str, np.ndarray] = dict(speed_m_s=v, omega_rad_s=w)
+    main = per_run if data_source is None else per_run[per_run.data_source == data_source]
     for system in params.MODELS:
         out[f"{system}_roll_amp_rad"], out[f"{system}_steer_amp_rad"] = val.ps_map(system, v, w)
-        ex = val.example_runs(per_run, system, examples_per_system)
+        ex = val.example_runs(main, system, examples_per_system)
         out[f"{system}_run_ids"] = ex.run_id.to_numpy(int)
         for k, row in ex.iterrows():
             rid = int(row.run_id)
             r, s = val.model_series(system, row.speed_kmh / 3.6, series[f"{rid}_crank_rad"],
                                     row.cadence_rpm * np.pi / 30)
             out[f"{system}_{k}_roll_rad"], out[f"{system}_{k}_steer_rad"] = r, s
+    real = val.real_example(per_run, series)
+    if real is not None:
+        run, system = real
+        out.update(real_run_id=np.int64(run.run_id), real_system=np.str_(system),
+                   real_speed_kmh=np.float64(run.speed_kmh),
+                   real_cadence_rpm=np.float64(run.cadence_rpm), real_t_s=run.t_s,
+                   real_roll_rad=run.roll_rad, real_steer_rad=run.steer_rad,
+                   real_model_roll_rad=run.model_roll_rad,
+                   real_model_steer_rad=run.model_steer_rad)
     return out
 
 
 def write_validation(per_run_csv: str, series_npz: str, out_npz: str, lin: Mapping,
-                     examples_per_system: int) -> None:
+                     examples_per_system: int, source_json: str | None = None) -> None:
     """Read the per-run table and the measured series, write :func:`validation`'s arrays on
-    the PS grid of ``lin`` from one step (no zero speed or cadence)."""
+    the PS grid of ``lin`` from one step (no zero speed or cadence); ``source_json``: the
+    extraction's ``source.json`` (its ``data_source`` picks the example runs)."""
+    import json
+
     import pandas as pd
 
+    ds = None if source_json is None else json.loads(open(source_json).read())["data_source"]
     v, w = (g[1:] for g in ps_grid_of(lin))
     with np.load(series_npz, allow_pickle=False) as series:
-        data = validation(pd.read_csv(per_run_csv), series, v, w, examples_per_system)
+        data = validation(pd.read_csv(per_run_csv), series, v, w, examples_per_system, ds)
     np.savez_compressed(out_npz, **data)

@@ -217,3 +217,172 @@ def ps_map(system: str, speed_m_s: np.ndarray, omega_rad_s: np.ndarray
     """Particular-solution roll and steer amplitude maps ``(n_v, n_w)`` (one batched solve)."""
     return model_amplitudes(system, np.asarray(speed_m_s)[:, None],
                             np.asarray(omega_rad_s)[None, :])
+
+
+#: ``data_source`` of the rows built from the real public subset (pedalrepro.mocap.prepare).
+PUBLIC = "public_subset"
+#: Columns of :func:`method_comparison` (``mocap_real_comparison.csv``, empty without a real run).
+COMPARISON_COLUMNS: tuple[str, ...] = (
+    "run_id", "method", "column", "speed_kmh", "cadence_rpm", "roll_rad", "steer_rad",
+    "speed_published_kmh", "cadence_published_rpm", "roll_published_rad", "steer_published_rad",
+    "belt_speed_matches", "cadence_matches", "roll_matches", "steer_matches", "n_matches",
+)
+
+
+def real_rows(measured: pd.DataFrame, systems: Sequence[str] = ("HR", "CR")) -> pd.DataFrame:
+    """Table 4.1 rows of real public-subset runs (``data_source == "public_subset"``).
+
+    The model is evaluated at the run's belt speed and measured cadence (``cadence_rpm`` =
+    ``cadence_measured_rpm``: there is no table-header cadence for such a run); the rows are
+    never part of the median and range rows of the main source.
+    """
+    sub = measured[(measured.data_source == PUBLIC) & measured.system.isin(systems)]
+    rows = []
+    for _, m in sub.iterrows():
+        roll_m, steer_m = model_amplitudes(m.system, m.speed_kmh / 3.6, m.cadence_rpm * np.pi / 30)
+        row = {"system": m.system, "speed_kmh": float(m.speed_kmh),
+               "cadence_rpm": float(m.cadence_rpm), "cadence_measured_rpm": float(m.cadence_rpm),
+               "roll_measured_rad": float(m.roll_measured_rad), "roll_model_rad": float(roll_m),
+               "steer_measured_rad": float(m.steer_measured_rad),
+               "steer_model_rad": float(steer_m), "data_source": PUBLIC}
+        for q in ("roll", "steer"):
+            row[f"{q}_difference_rad"] = row[f"{q}_measured_rad"] - row[f"{q}_model_rad"]
+            row[f"{q}_rd_percent"] = float(rd_percent([row[f"{q}_measured_rad"]],
+                                                      [row[f"{q}_model_rad"]])[0])
+        rows.append(row)
+    return pd.DataFrame(rows, columns=list(TABLE_4_1_COLUMNS))
+
+
+def published_columns(published: dict, system: str) -> pd.DataFrame:
+    """Table 4.1's columns of one system: ``speed_kmh, cadence_rpm, roll_measured_rad,
+    steer_measured_rad`` as printed."""
+    pub = published["table_4_1_model_validation"]
+    idx = [i for i, s in enumerate(pub["system"]) if s == system]
+    return pd.DataFrame({k: [float(pub[k][i]) for i in idx] for k in
+                         ("speed_kmh", "cadence_rpm", "roll_measured_rad", "steer_measured_rad")})
+
+
+def method_comparison(row: pd.Series, published: dict) -> pd.DataFrame:
+    """A real run's cadence and amplitudes by both methods against every Table 4.1 column of
+    its system.
+
+    Methods: ``thesis`` = the Hann DFT bin nearest the whole-bin cadence (Sec 3.1.2.1.1; the
+    cadence as printed, whole rpm); ``exact`` = the Hann DFT at the interpolated cadence
+    (this project). A value *matches* a printed one when it rounds to it (cadence to whole rpm,
+    amplitudes to 3 decimals, i.e. within half the last digit). Columns: ``method, column,
+    speed_kmh, cadence_rpm, roll_rad, steer_rad`` (the run's), the printed ones
+    (``*_published``), per-quantity ``*_matches`` and ``n_matches`` (of 3: cadence, roll,
+    steer), and ``belt_speed_matches``.
+    """
+    cols = published_columns(published, row.system)
+    by_method = {
+        "thesis": (float(row.cadence_bin_rpm), float(row.roll_bin_rad), float(row.steer_bin_rad)),
+        "exact": (float(row.cadence_rpm), float(row.roll_measured_rad),
+                  float(row.steer_measured_rad)),
+    }
+    out = []
+    for method, (cad, roll, steer) in by_method.items():
+        for _, c in cols.iterrows():
+            r = {"run_id": int(row.run_id), "method": method,
+                 "column": f"{row.system} {c.speed_kmh:g} km/h", "speed_kmh": float(row.speed_kmh),
+                 "cadence_rpm": cad, "roll_rad": roll, "steer_rad": steer,
+                 "speed_published_kmh": c.speed_kmh, "cadence_published_rpm": c.cadence_rpm,
+                 "roll_published_rad": c.roll_measured_rad,
+                 "steer_published_rad": c.steer_measured_rad}
+            r["belt_speed_matches"] = bool(abs(r["speed_kmh"] - c.speed_kmh) <= 0.05)
+            r["cadence_matches"] = bool(abs(cad - c.cadence_rpm) <= 0.5)
+            r["roll_matches"] = bool(abs(roll - c.roll_measured_rad) <= 5e-4)
+            r["steer_matches"] = bool(abs(steer - c.steer_measured_rad) <= 5e-4)
+            r["n_matches"] = int(r["cadence_matches"] + r["roll_matches"] + r["steer_matches"])
+            out.append(r)
+    return pd.DataFrame(out, columns=list(COMPARISON_COLUMNS))
+
+
+def real_report_rows(comparison: pd.DataFrame, published: dict | None = None
+                     ) -> list[report.Row]:
+    """Report rows of a real public-subset run (thesis method): its cadence, roll and steer
+    against the Table 4.1 column of the same belt speed, and against the column it matches best
+    when that is another one (claims ``table_4_1.real_run_{run}.*`` of
+    ``data/published/claims.yaml``); the notes name the best column of both methods.
+    ``published``: :func:`pedalrepro.params.published` (default: read it)."""
+    pub = (published or params.published())["table_4_1_model_validation"]
+    rows: list[report.Row] = []
+    for rid, comp in comparison.groupby("run_id"):
+        th = comp[comp.method == "thesis"]
+        best = {m: comp[comp.method == m].sort_values("n_matches", ascending=False,
+                                                      kind="stable").iloc[0]
+                for m in ("thesis", "exact")}
+        note = "; ".join(f"{m} method: best match {b.column} ({b.n_matches} of 3)"
+                         for m, b in best.items())
+        picks = [(r, "same belt speed") for _, r in th[th.belt_speed_matches].iterrows()]
+        if not best["thesis"].belt_speed_matches:
+            picks.append((best["thesis"], "best-matching column"))
+        for s, why in picks:
+            system = s.column.split()[0]
+            hit = [i for i, (sy, v) in enumerate(zip(pub["system"], pub["speed_kmh"],
+                                                     strict=True))
+                   if sy == system and abs(float(v) - s.speed_published_kmh) <= 0.05]
+            if len(hit) != 1:
+                raise ValueError(f"Table 4.1 has no single column {s.column!r} "
+                                 "(thesis_values.yaml: table_4_1_model_validation)")
+            fields = dict(run=int(rid), system=system, speed=f"{s.speed_published_kmh:g}",
+                          i=hit[0], why=why, belt=f"{s.speed_kmh:.1f}")
+            rows.append(report.check("table_4_1.real_run_{run}.cadence.{system}_{speed}",
+                                     float(s.cadence_rpm), note=f"public subset (real); {note}",
+                                     **fields))
+            for q in ("roll", "steer"):
+                rows.append(report.check(
+                    "table_4_1.real_run_{run}.{coord}_measured.{system}_{speed}",
+                    float(s[f"{q}_rad"]), coord=q, note=f"public subset (real); {note}",
+                    **fields))
+    return rows
+
+
+def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.DataFrame,
+                     source: dict, published: dict) -> dict:
+    """Every chapter-4 table from the per-run extraction (the rule ``validation_tables``).
+
+    The main source's rows (``source["data_source"]``) make Table 4.1's seven runs with their
+    median and range, Table 4.2 and the per-run table; real public-subset rows follow in
+    Table 4.1 and the per-run table with their own ``data_source`` and are never pooled.
+
+    Returns ``t41, t42, per_run, comparison`` (DataFrames) and ``report`` (rows).
+    """
+    ds = source["data_source"]
+    main = measured[measured.data_source == ds]
+    real = measured[measured.data_source == PUBLIC]
+    t41 = table_4_1(main, selection, model, ds)
+    per_run = per_run_table(main, ds)
+    t42 = table_4_2(per_run, ds)
+    comparison = pd.DataFrame(columns=list(COMPARISON_COLUMNS))
+    if not real.empty:
+        t41 = pd.concat([t41, real_rows(real)], ignore_index=True)
+        per_run = pd.concat([per_run, per_run_table(real, PUBLIC)], ignore_index=True)
+        comparison = pd.concat([method_comparison(r, published) for _, r in real.iterrows()
+                                if r.system in set(published["table_4_1_model_validation"]
+                                                   ["system"])], ignore_index=True)
+    rows = report_rows(t41[t41.data_source == ds], t42, published, ds,
+                       "" if ds == "figshare" else source["reason"])
+    if not comparison.empty:
+        rows += real_report_rows(comparison)
+    return {"t41": t41, "t42": t42, "per_run": per_run, "comparison": comparison,
+            "report": rows}
+
+
+def real_example(per_run: pd.DataFrame, series) -> tuple | None:
+    """The first real public-subset run of the per-run table as a
+    :class:`pedalrepro.figures.validation.ExampleRun` with its model series, and its system;
+    ``None`` when the build has none. ``series``: the extraction's ``series.npz``
+    (keys ``<series_id>_<name>``)."""
+    from .figures.validation import ExampleRun
+
+    sub = per_run[per_run.data_source == PUBLIC]
+    if sub.empty:
+        return None
+    row = sub.iloc[0]
+    key = f"public_{int(row.run_id)}"
+    mr, ms = model_series(row.system, row.speed_kmh / 3.6, series[f"{key}_crank_rad"],
+                          row.cadence_rpm * np.pi / 30)
+    return ExampleRun(int(row.run_id), float(row.speed_kmh), float(row.cadence_rpm),
+                      series[f"{key}_t_s"], series[f"{key}_roll_rad"],
+                      series[f"{key}_steer_rad"], mr, ms), str(row.system)

@@ -6,7 +6,9 @@ stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_s
 ``draw_*`` functions are what :mod:`pedalrepro.figures.registry` calls: they take the loaded
 files (per-run table, measured series, data source, and the model maps and series written by
 the rule ``validation_figure_data``, :func:`pedalrepro.figdata.validation`). Models are drawn in
-their chapter-3 colours (:mod:`pedalrepro.figures.palette`).
+their chapter-3 colours (:mod:`pedalrepro.figures.palette`). Figures 4.2-4.11 show only the
+build's main source (``source.json``); the REAL public-subset run (issue 12) has its own,
+non-thesis panel, ``real_run_panel`` (:func:`draw_real_run_panel`), never pooled with them.
 """
 
 from __future__ import annotations
@@ -209,6 +211,14 @@ def _reason(source: dict) -> str:
     return "" if source["data_source"] == "figshare" else source["reason"]
 
 
+def _main(per_run: pd.DataFrame, source: dict) -> pd.DataFrame:
+    """The rows of the build's main source only: real public-subset rows (their own
+    ``data_source``) are never pooled into the synthetic or figshare figures."""
+    if "data_source" not in per_run:
+        return per_run
+    return per_run[per_run.data_source == source["data_source"]]
+
+
 def _maps(model: dict) -> dict[str, PSMap]:
     return {s: PSMap(model["speed_m_s"], model["omega_rad_s"], model[f"{s}_roll_amp_rad"],
                      model[f"{s}_steer_amp_rad"]) for s in SYSTEMS if f"{s}_roll_amp_rad" in model}
@@ -227,22 +237,84 @@ def _examples(per_run: pd.DataFrame, series: dict, model: dict, system: str) -> 
 
 def draw_time_series(per_run, series, source, model, system: str) -> Figure:
     """Figs 4.2-4.5 from the registry's files."""
-    return time_series(system, _examples(per_run, series, model, system), _maps(model)[system],
+    return time_series(system, _examples(_main(per_run, source), series, model, system),
+                       _maps(model)[system],
                        _reason(source))
 
 
 def draw_frequency_domain(per_run, series, source, model, system: str) -> Figure:
     """Figs 4.6-4.9 from the registry's files."""
-    ex = _examples(per_run, series, model, system)
+    ex = _examples(_main(per_run, source), series, model, system)
     fs = float(1.0 / np.median(np.diff(ex[0].t_s)))
     return frequency_domain(system, ex, _maps(model)[system], fs, _reason(source))
 
 
 def draw_fig_4_10(per_run, series, source, model) -> Figure:
     """Fig 4.10 from the registry's files."""
-    return fig_4_10(per_run, _maps(model), _reason(source))
+    return fig_4_10(_main(per_run, source), _maps(model), _reason(source))
 
 
 def draw_fig_4_11(per_run, series, source, model) -> Figure:
     """Fig 4.11 from the registry's files."""
-    return fig_4_11(per_run, _reason(source))
+    return fig_4_11(_main(per_run, source), _reason(source))
+
+
+def real_run_panel(run: ExampleRun, system: str, data_label: str, window_s: float = 10.0
+                   ) -> Figure:
+    """A Fig 4.2/4.6-style panel of one REAL run (public subset): measured vs open-loop model
+    roll and steer over ``window_s`` (top) and their Hann amplitude spectra (bottom), with the
+    cadence, the Hann bin nearest it (the thesis's amplitude, o) and the DFT at the exact cadence
+    (this project's, x) marked. ``data_label`` is printed in the title (e.g. ``REAL run
+    3045``)."""
+    fs = float(1.0 / np.median(np.diff(run.t_s)))
+    fc = run.cadence_rpm / 60.0
+    fig, axes = plt.subplots(2, 2, figsize=(7.0, 5.6), layout="constrained")
+    sel = run.t_s <= run.t_s[0] + window_s
+    for j, (meas, mod, name) in enumerate(_signals(run)):
+        a = axes[0, j]
+        a.plot(run.t_s[sel], meas[sel], "k-", lw=0.9, label="measured")
+        a.plot(run.t_s[sel], mod[sel], "C1--", lw=1.1, label="model (particular solution)")
+        a.set_xlabel("time (s)")
+        a.set_ylabel(f"{name} (rad)")
+        b = axes[1, j]
+        x = meas - meas.mean()
+        f, amp = spectral.spectrum(x, fs, "hann")
+        keep = f <= 4.0 * fc
+        b.semilogy(f[keep], amp[keep], "k-", lw=0.8, label="measured, Hann")
+        fm, am = spectral.spectrum(mod - mod.mean(), fs, "hann")
+        b.semilogy(fm[keep], am[keep], "C1--", lw=0.9, label="model, Hann")
+        k = int(np.argmin(np.abs(f - fc)))
+        b.plot(f[k], amp[k], "o", mfc="none", mec="C0", label="nearest bin (thesis)")
+        b.plot(fc, spectral.amplitude_at(x, fs, fc), "x", color="C3",
+               label="exact cadence (project)")
+        for h in (1, 2, 3):
+            b.axvline(h * fc, color="0.6", ls=":", lw=0.8)
+        b.set_xlabel("frequency (Hz)")
+        b.set_ylabel(f"|{name}| (rad)")
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    axes[1, 0].legend(fontsize=8, loc="upper right")
+    fig.suptitle(f"{data_label}: system {system}, {run.speed_kmh:.1f} km/h, "
+                 f"{run.cadence_rpm:.2f} rpm (measurement, not synthetic)", fontsize=9)
+    return fig
+
+
+def no_real_run(text: str) -> Figure:
+    """The REAL-run panel's stand-in when a build has no real run: a figure that says so."""
+    fig, ax = plt.subplots(figsize=(7.0, 1.6))
+    ax.axis("off")
+    ax.text(0.5, 0.5, text, ha="center", va="center", wrap=True, fontsize=10)
+    return fig
+
+
+def draw_real_run_panel(source, model) -> Figure:
+    """The REAL run's panel (not a thesis figure) from the registry's files: the real
+    public-subset run that :func:`pedalrepro.figdata.validation` wrote into ``model``
+    (keys ``real_*``), or a figure saying the build has none."""
+    if "real_run_id" not in model:
+        return no_real_run("No real public-subset run in this build (data_source: "
+                           f"{source['data_source']}; see the chapter's data note)")
+    run = ExampleRun(int(model["real_run_id"]), float(model["real_speed_kmh"]),
+                     float(model["real_cadence_rpm"]), model["real_t_s"], model["real_roll_rad"],
+                     model["real_steer_rad"], model["real_model_roll_rad"],
+                     model["real_model_steer_rad"])
+    return real_run_panel(run, str(model["real_system"]), f"REAL run {run.run_id}")

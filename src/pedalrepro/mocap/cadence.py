@@ -110,3 +110,31 @@ def amplitudes_at_cadence(kin: Kinematics, cadence: Cadence, sample_rate_hz: flo
         x = getattr(kin, f"{name}_rad")
         out[f"{name}_amp_rad"] = float(spectral.amplitude_at(x - x.mean(), sample_rate_hz, f))
     return out
+
+
+def amplitudes_nearest_bin(kin: Kinematics, cadence: Cadence, sample_rate_hz: float
+                           ) -> dict[str, float]:
+    """The thesis's amplitudes for measurements (Sec 3.1.2.1.1, Sec 4.1): the Hann-windowed DFT
+    bin nearest the cadence, the cadence being the right foot's whole-bin spectral peak
+    (``cadence_bin_rpm``; bins are ``1 / T`` apart, 1 rpm for 60 s).
+
+    Unlike :func:`amplitudes_at_cadence` (the DFT evaluated at the exact cadence), this
+    includes the Hann window's scalloping loss: a cadence ``d`` bins off the bin reads
+    ``sinc(d) / (1 - d^2)`` of the amplitude (down to 0.85 at half a bin).
+    """
+    out = {}
+    for name in ("roll", "steer", "yaw"):
+        x = getattr(kin, f"{name}_rad")
+        f, a = spectral.spectrum(x - x.mean(), sample_rate_hz, "hann")
+        k = int(np.argmin(np.abs(f - cadence.cadence_bin_rpm / 60.0)))
+        out[f"{name}_amp_rad"] = float(a[k])
+    return out
+
+
+def scalloping_factor(offset_bins: float) -> float:
+    """Hann window amplitude response ``sinc(d) / (1 - d^2)`` at ``d`` bins off a bin
+    (continuous-window approximation, exact as N -> infinity; Brandt 2011)."""
+    d = float(offset_bins)
+    if abs(abs(d) - 1.0) < 1e-12:
+        return 0.5
+    return float(np.sinc(d) / (1.0 - d * d))

@@ -1,36 +1,60 @@
 """Download and verify the treadmill data with pooch (figshare DOI 10.6084/m9.figshare.1082512).
 
-The registry ``data/registry.txt`` lists the published files and their hashes. Refresh it when
-online with ``pedalrepro mocap refresh-registry`` (:func:`refresh_registry`, which calls
-``pooch.Pooch.load_registry_from_doi``: it reads the file list and figshare's md5 checksums
-without downloading any data). Files are cached in ``pooch.os_cache("pedalrepro")``, or in the
-folder named by the environment variable ``PEDALREPRO_DATA_DIR`` (a local copy of the data set
-works offline once the registry lists it). Every cached file is checked against its hash before
-use.
+Two registries, one data folder:
 
-Data source (config ``data_source``): ``figshare`` needs the real files and stops with a clear
-message when they cannot be had; ``synthetic`` forces the stand-in; ``auto`` (default) uses the
-real files when cached or downloadable, else the stand-in, with the reason
-(:func:`resolve_source`).
+- ``data/registry.txt``: the published figshare set (one ``RNNN.mat`` per run). It may be
+  empty or partial: online, the file list and figshare's md5 checksums are read from the DOI
+  at run time (``pooch.Pooch.load_registry_from_doi``, :func:`figshare_registry`) and merged
+  with it. ``pedalrepro mocap refresh-registry`` saves them. Only rider 3's runs are fetched
+  (:func:`run_files`: the thesis's tables and figures use rider 3 alone), not the 271 files.
+- ``data/registry_public.txt``: the public subset of real recordings re-hosted on GitHub
+  (per-coordinate exports of runs 3045 and 3101, raw URLs at a pinned commit, sha256),
+  read by :mod:`pedalrepro.mocap.exports` (:func:`public_files`).
+
+Data folder: the environment variable ``PEDALREPRO_DATA_DIR`` (:data:`ENV`), else
+``pooch.os_cache("pedalrepro")``. Offline, put the files there (a copy of the public subset
+is enough for the real 3045 row): nothing is downloaded when a file is present with the right
+hash. Every file is checked against its hash before use; a file whose hash does not match is
+reported, removed and fetched again once (:func:`fetch`). Downloads show a progress bar (tqdm,
+as pooch's) and **resume** after an interruption: the bytes received so far stay in
+``<name>.part`` in the data folder and the next attempt asks the server for the rest (HTTP
+``Range``;
+:class:`ResumingDownloader`); one retry follows at once, a later run resumes again.
+
+Data source (config ``data_source``, :func:`resolve_source`): ``figshare`` needs the real files
+and stops with one clear message when they cannot be had; ``synthetic`` forces the stand-in;
+``auto`` (default) uses the figshare set when it can be had, else the synthetic stand-in plus
+whatever real public-subset run is available, each row labelled with its own source
+(:mod:`pedalrepro.mocap.prepare`); ``auto`` never fails the workflow.
 """
 
 from __future__ import annotations
 
+import logging
+import os
 import re
+import shutil
 from pathlib import Path
 
 import pooch
+import requests
 
 from .. import paths
 
 DOI = "10.6084/m9.figshare.1082512"
 BASE_URL = f"doi:{DOI}/"
 REGISTRY: Path = paths.DATA / "registry.txt"
-#: Environment variable pointing the cache at a local folder.
+REGISTRY_PUBLIC: Path = paths.DATA / "registry_public.txt"
+#: Environment variable naming the data folder (pooch cache) of both registries.
 ENV = "PEDALREPRO_DATA_DIR"
 SOURCES: tuple[str, ...] = ("auto", "figshare", "synthetic")
-RUN_FILE = re.compile(r"^(?:.*/)?(\d{4})\.mat$")
+RUN_FILE = re.compile(r"^(?:.*/)?(\d)(\d{3})\.mat$")
 ARCHIVES = (".zip", ".tar", ".tar.gz", ".tgz")
+#: Network timeout of one request (s).
+TIMEOUT_S = 30.0
+#: Attempts per file: the first and one more after a hash mismatch or an interruption.
+ATTEMPTS = 2
+LOG = logging.getLogger("pedalrepro.mocap")
 
 
 class DataUnavailableError(OSError):
@@ -44,21 +68,41 @@ class HashMismatchError(ValueError):
 def offline_message(exc: BaseException | None = None) -> str:
     why = f" ({type(exc).__name__}: {exc})" if exc is not None else ""
     return (
-        f"The treadmill data (figshare DOI {DOI}) are needed but cannot be reached{why}. "
-        f"Either connect to the internet, or set {ENV} to a folder holding the published files "
-        f"(and list them in {REGISTRY} with `pedalrepro mocap refresh-registry` once online), "
-        "or set `data_source: synthetic` (or `auto`) to build the labelled synthetic stand-in."
+        f"data_source: figshare, but the treadmill data (figshare DOI {DOI}) cannot be "
+        f"reached{why}. Either connect to the internet, or set {ENV} to a folder holding the "
+        f"published run files listed in {REGISTRY.name} (`pedalrepro mocap refresh-registry` "
+        "lists them once online), or set `data_source: auto` (stand-in plus the real public "
+        "subset, labelled) or `synthetic`."
     )
+
+
+def data_dir() -> Path:
+    """The data folder: ``$PEDALREPRO_DATA_DIR`` or ``pooch.os_cache("pedalrepro")``."""
+    return Path(os.environ.get(ENV) or pooch.os_cache("pedalrepro"))
 
 
 def make_pooch(registry: str | Path | None = REGISTRY, path: str | Path | None = None
                ) -> pooch.Pooch:
-    """The project's :class:`pooch.Pooch` for the data set (cache: ``$PEDALREPRO_DATA_DIR`` or
-    ``pooch.os_cache("pedalrepro")``; registry from ``registry`` when given and present)."""
+    """The project's :class:`pooch.Pooch` for the figshare set (data folder :func:`data_dir`;
+    registry from ``registry`` when given and present)."""
     pup = pooch.create(path=path or pooch.os_cache("pedalrepro"), base_url=BASE_URL, env=ENV,
-                       registry=None, retry_if_failed=1)
+                       registry=None, retry_if_failed=0)
     if registry is not None and Path(registry).is_file():
         pup.load_registry(str(registry))
+    return pup
+
+
+def make_public_pooch(registry: str | Path = REGISTRY_PUBLIC, base_url: str | None = None,
+                      path: str | Path | None = None) -> pooch.Pooch:
+    """:class:`pooch.Pooch` of the public subset (``data/registry_public.txt``: name, sha256,
+    raw GitHub URL at the pinned commit). ``base_url`` replaces the registry's URLs by
+    ``base_url + name`` (a mirror, or a local test server)."""
+    pup = pooch.create(path=path or pooch.os_cache("pedalrepro"),
+                       base_url=base_url or "https://raw.githubusercontent.com/", env=ENV,
+                       registry=None, retry_if_failed=0)
+    pup.load_registry(str(registry))
+    if base_url:
+        pup.urls = {}
     return pup
 
 
@@ -104,7 +148,7 @@ def verify(pup: pooch.Pooch, name: str) -> Path | None:
         The cached file differs from the registry (corrupt, truncated or not the published one).
     """
     if name not in pup.registry:
-        raise KeyError(f"{name!r} is not in the registry {REGISTRY}")
+        raise KeyError(f"{name!r} is not in the registry")
     p = Path(pup.abspath) / name
     if not p.is_file():
         return None
@@ -114,17 +158,110 @@ def verify(pup: pooch.Pooch, name: str) -> Path | None:
         got = pooch.file_hash(str(p), alg=alg)
         raise HashMismatchError(
             f"{p}: {alg} hash {got} does not match the registry ({known}): the file is corrupt, "
-            "truncated or not the published one; delete it to download it again")
+            "truncated or not the published one")
     return p
 
 
-def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True) -> Path:
-    """A verified local copy of one registry file (download with pooch's progress bar if needed).
+class ResumingDownloader:
+    """A pooch downloader that resumes an interrupted download (HTTP ``Range``).
 
-    Archives (``.zip``, ``.tar.gz``) are unpacked; the folder is returned.
+    The bytes received so far are kept in ``part`` (``<data folder>/<name>.part``); the next
+    call asks for the rest (``Range: bytes=<size>-``) and appends it. A server that ignores the
+    range (status 200) sends the whole file again, which replaces the part. A ``doi:`` URL is
+    resolved to the repository's download URL first (as :class:`pooch.DOIDownloader` does).
+    When the transfer stops short of the announced length, the part is kept and
+    ``requests.exceptions.ConnectionError`` is raised (pooch then removes its temporary file;
+    :func:`fetch` tries once more, resuming).
+    """
+
+    def __init__(self, part: str | Path, progressbar: bool = False, timeout_s: float = TIMEOUT_S,
+                 chunk_size: int = 1 << 16):
+        self.part = Path(part)
+        self.progressbar = progressbar
+        self.timeout_s = timeout_s
+        self.chunk_size = chunk_size
+
+    def resolve(self, url: str) -> str:
+        if not url.startswith("doi:"):
+            return url
+        # "doi:10.6084/m9.figshare.1082512/3045.mat" -> the DOI and the file name
+        prefix, _, rest = url[4:].partition("/")
+        suffix, _, name = rest.partition("/")
+        repo = pooch.downloaders.doi_to_repository(f"{prefix}/{suffix}",
+                                                   timeout=self.timeout_s)
+        return repo.download_url(name)
+
+    def __call__(self, url: str, output_file, pup=None, check_only: bool = False):
+        url = self.resolve(url)
+        have = self.part.stat().st_size if self.part.is_file() else 0
+        headers = {"Range": f"bytes={have}-"} if have else {}
+        with requests.get(url, stream=True, headers=headers, timeout=self.timeout_s) as r:
+            if r.status_code == 416 and have:  # nothing left to send: the part is complete
+                total = have
+            else:
+                r.raise_for_status()
+                if r.status_code != 206:  # the server sent the whole file
+                    have = 0
+                length = int(r.headers.get("Content-Length", 0)) or None
+                total = have + length if length is not None else None
+                bar = None
+                if self.progressbar:
+                    from tqdm import tqdm
+
+                    bar = tqdm(total=total, initial=have, unit="B", unit_scale=True,
+                               desc=self.part.name.removesuffix(".part"), leave=True)
+                self.part.parent.mkdir(parents=True, exist_ok=True)
+                try:
+                    with self.part.open("ab" if have else "wb") as fh:
+                        for chunk in r.iter_content(chunk_size=self.chunk_size):
+                            fh.write(chunk)
+                            if bar is not None:
+                                bar.update(len(chunk))
+                finally:
+                    if bar is not None:
+                        bar.close()
+        size = self.part.stat().st_size
+        if total is not None and size < total:
+            raise requests.exceptions.ConnectionError(
+                f"{url}: download interrupted at {size} of {total} bytes (kept in "
+                f"{self.part.name}; the next attempt resumes)")
+        if hasattr(output_file, "write"):
+            with self.part.open("rb") as fh:
+                shutil.copyfileobj(fh, output_file)
+        else:
+            shutil.copyfile(self.part, output_file)
+        self.part.unlink()
+
+
+def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True,
+          events: list[str] | None = None) -> Path:
+    """A verified local copy of one registry file (downloaded if needed, resuming).
+
+    A cached file whose hash does not match is reported (``events`` and the log), removed and
+    fetched again; a download whose hash does not match is fetched once more; an interrupted
+    download resumes once. Archives (``.zip``, ``.tar.gz``) are unpacked; the folder is
+    returned.
+
+    Raises
+    ------
+    HashMismatchError
+        The file still does not match its hash after the second attempt.
+    DataUnavailableError
+        The file is not cached and cannot be downloaded (offline, server error).
     """
     pup = pup or make_pooch()
-    cached = verify(pup, name)
+    events = [] if events is None else events
+
+    def say(msg: str) -> None:
+        events.append(msg)
+        LOG.warning(msg)
+
+    try:
+        cached = verify(pup, name)
+    except HashMismatchError as exc:
+        say(f"{exc}: removed, fetching it again")
+        (Path(pup.abspath) / name).unlink()
+        cached = None
     processor = None
     if name.endswith(".zip"):
         processor = pooch.Unzip()
@@ -132,69 +269,149 @@ def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True) -
         processor = pooch.Untar()
     if cached is not None and processor is None:
         return cached
-    try:
-        out = pup.fetch(name, progressbar=progressbar, processor=processor)
-    except ValueError as exc:  # pooch: downloaded file's hash does not match
-        raise HashMismatchError(f"{name}: {exc}") from exc
-    except OSError as exc:
-        raise DataUnavailableError(offline_message(exc)) from exc
+    part = Path(pup.abspath) / f"{name}.part"
+    for attempt in range(1, ATTEMPTS + 1):
+        last = attempt == ATTEMPTS
+        try:
+            out = pup.fetch(name, progressbar=progressbar, processor=processor,
+                            downloader=ResumingDownloader(part, progressbar))
+            break
+        except ValueError as exc:  # pooch: the downloaded file's hash does not match
+            part.unlink(missing_ok=True)
+            if last:
+                raise HashMismatchError(f"{name}: hash mismatch again after {ATTEMPTS} "
+                                        f"downloads: {exc}") from exc
+            say(f"{name}: downloaded file does not match its hash ({exc}); removed, "
+                "fetching it again")
+        except (requests.exceptions.RequestException, OSError) as exc:
+            if last or not part.is_file():
+                raise DataUnavailableError(
+                    f"{name}: cannot be downloaded ({type(exc).__name__}: {exc})") from exc
+            say(f"{name}: download interrupted ({exc}); resuming from "
+                f"{part.stat().st_size} bytes")
     if isinstance(out, list):
-        return Path(out[0]).parent if len(out) == 1 else Path(Path(out[0]).parent)
+        return Path(out[0]).parent
     return Path(out)
 
 
-def run_files(pup: pooch.Pooch | None = None, progressbar: bool = True) -> dict[int, Path]:
-    """Every published run file (``RNNN.mat``), fetched and verified: run id -> path."""
+def figshare_registry(pup: pooch.Pooch, events: list[str] | None = None,
+                      require_doi: bool = False) -> dict[str, str]:
+    """The figshare file list with hashes: the committed registry, completed from the DOI.
+
+    When the committed registry lists no run file (the shipped, empty one) or only some, the
+    list and figshare's md5 checksums are read from the DOI at run time
+    (``load_registry_from_doi``, network) and merged (committed entries win); the merged list is
+    used for this run, not written (``pedalrepro mocap refresh-registry`` writes it).
+
+    Raises
+    ------
+    DataUnavailableError
+        The DOI cannot be resolved (offline) and the registry has no run file, or
+        ``require_doi`` (files that are not cached need the network anyway).
+    """
+    committed = dict(pup.registry)
+    probe = make_pooch(registry=None, path=pup.abspath)
+    try:
+        probe.load_registry_from_doi()
+    except (OSError, ValueError) as exc:
+        if not require_doi and any(RUN_FILE.match(n) for n in committed):
+            if events is not None:
+                events.append(f"figshare file list not refreshed from the DOI "
+                              f"({type(exc).__name__}); the committed registry is used")
+            return committed
+        raise DataUnavailableError(offline_message(exc)) from exc
+    merged = {**probe.registry, **committed}
+    pup.registry.update(merged)
+    pup.urls.update({k: v for k, v in probe.urls.items() if k not in pup.urls})
+    return merged
+
+
+def rider_run_names(names, rider: int) -> list[str]:
+    """The run files ``RNNN.mat`` of one rider among registry names (the static runs too)."""
+    return sorted(n for n in names if (m := RUN_FILE.match(n)) and int(m.group(1)) == rider)
+
+
+def run_files(pup: pooch.Pooch | None = None, progressbar: bool = True, rider: int | None = 3,
+              events: list[str] | None = None) -> dict[int, Path]:
+    """Rider ``rider``'s published run files (``RNNN.mat``), fetched and verified.
+
+    The file list comes from :func:`figshare_registry` (the DOI at run time when the committed
+    registry is empty). Only the rider's runs are fetched (``None``: every run); archives are
+    fetched and searched for run files when there are no single run files.
+    """
     pup = pup or make_pooch()
-    if not pup.registry:
-        raise DataUnavailableError(
-            f"{REGISTRY} lists no files yet: run `pedalrepro mocap refresh-registry` online")
+    figshare_registry(pup, events)
+    names = list(pup.registry)
+    wanted = (rider_run_names(names, rider) if rider is not None
+              else sorted(n for n in names if RUN_FILE.match(n)))
     out: dict[int, Path] = {}
-    for name in sorted(pup.registry):
+    for name in wanted:
         m = RUN_FILE.match(name)
-        if m:
-            out[int(m.group(1))] = fetch(name, pup, progressbar)
-        elif name.endswith(ARCHIVES):
-            folder = fetch(name, pup, progressbar)
+        out[int(m.group(1) + m.group(2))] = fetch(name, pup, progressbar, events)
+    if not out:
+        for name in sorted(n for n in names if n.endswith(ARCHIVES)):
+            folder = fetch(name, pup, progressbar, events)
             for f in Path(folder).rglob("*.mat"):
                 mm = RUN_FILE.match(f.name)
-                if mm:
-                    out.setdefault(int(mm.group(1)), f)
+                if mm and (rider is None or int(mm.group(1)) == rider):
+                    out.setdefault(int(mm.group(1) + mm.group(2)), f)
     if not out:
-        raise DataUnavailableError(f"no run file RNNN.mat found among the registry's files "
-                                   f"{sorted(pup.registry)[:5]}...")
+        raise DataUnavailableError(
+            f"no run file RNNN.mat of rider {rider} among the figshare files "
+            f"{sorted(names)[:5]}...")
     return out
 
 
-def cached_complete(pup: pooch.Pooch) -> bool:
-    """All registry files are in the cache with the right hashes (no network needed)."""
-    if not pup.registry:
+def public_files(pup: pooch.Pooch | None = None, progressbar: bool = True,
+                 events: list[str] | None = None) -> dict[str, Path]:
+    """The public subset's files that can be had (cached or downloaded), each verified.
+
+    Never raises for a file that cannot be had: it is left out and ``events`` says why.
+    """
+    pup = pup or make_public_pooch()
+    events = [] if events is None else events
+    out = {}
+    for name in sorted(pup.registry):
+        try:
+            out[name] = fetch(name, pup, progressbar, events)
+        except (DataUnavailableError, HashMismatchError) as exc:
+            events.append(f"{name} not available: {exc}")
+    return out
+
+
+def cached_complete(pup: pooch.Pooch, rider: int | None = 3) -> bool:
+    """The rider's registry run files are all in the cache with the right hashes (offline)."""
+    names = rider_run_names(pup.registry, rider) if rider is not None else list(pup.registry)
+    if not names:
         return False
-    return all(verify(pup, name) is not None for name in pup.registry)
+    try:
+        return all(verify(pup, name) is not None for name in names)
+    except HashMismatchError:
+        return False
 
 
 def resolve_source(requested: str = "auto", pup: pooch.Pooch | None = None
                    ) -> tuple[str, str]:
-    """Decide where the treadmill data come from: ``("figshare" | "synthetic", reason)``.
+    """Decide where the treadmill runs come from: ``("figshare" | "synthetic", reason)``.
 
-    ``auto``: the real files when cached (and verified) or when figshare answers; otherwise the
-    synthetic stand-in, with the reason. ``figshare``: raises :class:`DataUnavailableError`
-    when offline. ``synthetic``: always the stand-in.
+    ``auto``: the figshare files when cached (and verified) or when the DOI answers; otherwise
+    the synthetic stand-in, with the reason. ``figshare``: raises :class:`DataUnavailableError`
+    with one clear message when offline. ``synthetic``: always the stand-in. (The real
+    public-subset runs are added beside the stand-in by :mod:`pedalrepro.mocap.prepare`.)
     """
     if requested not in SOURCES:
         raise ValueError(f"data_source {requested!r} not in {SOURCES}")
     if requested == "synthetic":
         return "synthetic", "data_source: synthetic requested in the configuration"
     pup = pup or make_pooch()
-    if pup.registry and cached_complete(pup):
-        return "figshare", "all registry files cached and verified"
+    if cached_complete(pup):
+        return "figshare", "all registry run files cached and verified"
     try:
-        # reachability (and the file list, when the registry is still empty): one API call
-        probe = pup if not pup.registry else make_pooch(registry=None, path=pup.abspath)
-        probe.load_registry_from_doi()
+        figshare_registry(pup, require_doi=True)
         return "figshare", f"downloadable from figshare (DOI {DOI})"
-    except OSError as exc:
+    except DataUnavailableError as exc:
         if requested == "figshare":
-            raise DataUnavailableError(offline_message(exc)) from exc
-        return "synthetic", (f"figshare unreachable from this machine ({type(exc).__name__}); "
-                             "the synthetic stand-in is not the measurement")
+            raise
+        return "synthetic", (f"figshare unreachable from this machine "
+                             f"({type(exc.__cause__ or exc).__name__}); the synthetic stand-in "
+                             "is not the measurement")

@@ -177,6 +177,8 @@ class Kinematics:
         RMS residuals of the rigid-body fits (m), NaN where a fit was impossible.
     repaired_fraction
         Share of samples whose angles were interpolated (fewer than 3 markers of a body).
+    valid
+        Per sample: roll and steer come from marker fits (not interpolated).
     notes
         Repairs (markers never seen, fallbacks to the gap-repaired arrays).
     """
@@ -190,6 +192,7 @@ class Kinematics:
     fork_rms_m: np.ndarray
     repaired_fraction: float
     notes: list[str] = field(default_factory=list)
+    valid: np.ndarray | None = None
 
 
 def _body_points(run: Run, numbers: tuple[int, ...], notes: list[str]
@@ -371,7 +374,7 @@ def extract(run: Run, reference: Run | None = None, lam_rad: float | None = None
         angles = [signal.sosfiltfilt(sos, a) for a in angles]
     return Kinematics(t_s=t, yaw_rad=angles[0], roll_rad=angles[1], steer_rad=angles[2],
                       crank_rad=fill_gaps(t, crank_u), rear_rms_m=rms_b, fork_rms_m=rms_f,
-                      repaired_fraction=float(bad.mean()), notes=notes)
+                      repaired_fraction=float(bad.mean()), notes=notes, valid=~bad)
 
 
 def _steer_from_pairs(fork: np.ndarray, steer: np.ndarray, d1: np.ndarray, d2: np.ndarray,

@@ -233,6 +233,34 @@ def _missing_to_nan(xyz: np.ndarray, zeros_missing: bool) -> tuple[np.ndarray, i
     return xyz, n_sentinel
 
 
+#: What the project reads, for error messages.
+FORMATS = ("the published run files RNNN.mat (MATLAB v5: t, x, y, z, xori, yori, zori, bike, "
+           "condition, V, gearing), or per-coordinate exports RNNN_X/Y/Z as .xlsx or .csv "
+           "(pedalrepro.mocap.exports; `pedalrepro mocap extract RNNN_X.xlsx` finds the Y and Z "
+           "files beside it, `pedalrepro mocap import` converts them to RNNN.mat)")
+
+
+#: Suffixes of the per-coordinate exports (:mod:`pedalrepro.mocap.exports`).
+EXPORT_SUFFIXES: tuple[str, ...] = (".xlsx", ".csv")
+#: File-name stem of an export: run number, optional separator, coordinate letter.
+EXPORT_NAME = re.compile(r"^(?P<run>\d{4})[_\- ]?(?P<coord>[XYZxyz])$")
+
+
+def is_export(path: str | Path) -> bool:
+    """True for a file name of a per-coordinate export (``3045_X.xlsx``, ``3101Y.csv``)."""
+    p = Path(path)
+    return p.suffix.lower() in EXPORT_SUFFIXES and EXPORT_NAME.match(p.stem) is not None
+
+
+def check_mat_name(path: Path) -> None:
+    """A clear error when ``path`` is not a ``.mat`` file (e.g. an export passed instead)."""
+    if path.suffix.lower() == ".mat":
+        return
+    kind = ("a per-coordinate export (one coordinate of every marker), not a run file"
+            if is_export(path) else f"not a run file (suffix {path.suffix or 'none'!r})")
+    raise MocapFileError(f"{path}: {kind}. Read are: {FORMATS}.")
+
+
 def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
     """Read one published run file ``RNNN.mat`` into a :class:`Run` (SI, benchmark frame).
 
@@ -259,6 +287,7 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
     as raw; ``gear`` (rider 1) is read like ``gearing``.
     """
     path = Path(path)
+    check_mat_name(path)
     run_id, rider, trial = parse_run_id(path)
     if not path.is_file():
         raise FileNotFoundError(f"run file not found: {path}")
@@ -349,6 +378,7 @@ def read_metadata(path: str | Path) -> dict:
     n_samples, file``.
     """
     path = Path(path)
+    check_mat_name(path)
     run_id, rider, trial = parse_run_id(path)
     try:
         data = scipy.io.loadmat(str(path), variable_names=["bike", "condition", "V", "gearing",

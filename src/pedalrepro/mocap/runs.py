@@ -8,7 +8,7 @@ HR = Stratos, no-hands; CR = Browser, no-hands (``data/parameters/validation_run
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -93,23 +93,174 @@ def table_4_1_runs(index: pd.DataFrame, cadence_rpm: dict[int, float] | None = N
     return pd.DataFrame(rows)
 
 
+#: Longest stretch (s) over which the angles may be interpolated. A linearly interpolated gap
+#: of ``g`` s removes the cadence oscillation there; in the Hann-windowed DFT of a ``T`` s record
+#: a gap at the centre weighs at most ``2 g / T`` of the amplitude: 0.5 s in 60 s -> at most
+#: 1.7 %, about half the last printed digit of Table 4.1 (0.0005 rad of 0.011-0.031 rad).
+MAX_GAP_S = 0.5
+#: Largest Hann-weighted share of interpolated samples (many short gaps add up, same bound).
+MAX_INTERPOLATED_SHARE = 0.02
+#: Shortest usable stretch (s) analysed when long gaps split a run: the Hann main lobe is
+#: ``4 / T`` wide, 0.27 Hz = 16 rpm at 15 s, which keeps the cadence (60-90 rpm) clear of the
+#: weave and control band below 0.5 Hz (Sec 4.2) and resolves the cadence to 4 rpm per bin.
+MIN_SEGMENT_S = 15.0
+#: Smallest amplitude (m) of the right foot's forward motion at the cadence: while pedalling it
+#: is about the crank length (0.17 m, legs.yaml); the marker noise is 0.15 mm. A run below this
+#: has no pedalling to analyse (frozen, towed or a swapped foot marker).
+MIN_FOOT_AMPLITUDE_M = 0.05
+#: Largest relative difference between the foot's spectral peak and the mean crank-angle rate
+#: (they agree within 0.1 % on steady pedalling; a run where they differ has no single
+#: cadence).
+MAX_CADENCE_DISAGREEMENT = 0.02
+
+
+class RunRefusedError(ValueError):
+    """A run that cannot be analysed: the message names the measured criterion that failed."""
+
+
 @dataclass
 class RunAnalysis:
-    """A run with its kinematics, cadence and cadence-frequency amplitudes."""
+    """A run with its kinematics, cadence and cadence-frequency amplitudes.
+
+    Attributes
+    ----------
+    amplitudes
+        At the exact cadence (Hann DFT evaluated there; the project's method).
+    amplitudes_bin
+        At the Hann DFT bin nearest the whole-bin cadence (the thesis's method).
+    segment_s
+        ``(start, end)`` of the analysed stretch (s): the whole run unless long gaps forced a
+        partial analysis (``partial`` True, ``notes`` say why).
+    """
 
     run: Run
     kin: kinematics.Kinematics
     cadence: cadence_mod.Cadence
     amplitudes: dict[str, float]
+    amplitudes_bin: dict[str, float] = field(default_factory=dict)
+    segment_s: tuple[float, float] = (0.0, 0.0)
+    partial: bool = False
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def status(self) -> str:
+        """``"full"`` or ``"partial <start>-<end> s"``."""
+        return (f"partial {self.segment_s[0]:.2f}-{self.segment_s[1]:.2f} s" if self.partial
+                else "full")
 
 
-def analyse_run(path: str | Path, lowpass_hz: float | None = kinematics.LOWPASS_HZ
-                ) -> RunAnalysis:
-    """Read a run file, extract its angles and cadence and the amplitudes at the cadence."""
-    run = read_run(path)
+def load_run(source: str | Path | list | dict) -> Run:
+    """A run from a ``RNNN.mat`` file or from per-coordinate exports (one file, whose siblings
+    are found beside it, or the list of them); any other file gets an error listing what is
+    read (:data:`pedalrepro.mocap.reader.FORMATS`)."""
+    from . import exports
+
+    if isinstance(source, (list, tuple, dict)):
+        return exports.read_export_run(source)
+    path = Path(source)
+    if exports.is_export(path):
+        return exports.read_export_run(path)
+    return read_run(path)
+
+
+def gaps(valid: np.ndarray, t_s: np.ndarray) -> list[tuple[int, int]]:
+    """Index ranges ``[i0, i1)`` of the runs of ``False`` in ``valid``."""
+    bad = np.concatenate([[False], ~np.asarray(valid, bool), [False]])
+    edges = np.flatnonzero(np.diff(bad.astype(int)))
+    return list(zip(edges[::2], edges[1::2], strict=True))
+
+
+def usable_segment(valid: np.ndarray, t_s: np.ndarray, max_gap_s: float = MAX_GAP_S
+                   ) -> tuple[int, int, list[tuple[float, float]]]:
+    """The longest stretch ``[i0, i1)`` without a gap longer than ``max_gap_s``, and the long
+    gaps as ``(start, end)`` times."""
+    dt = float(np.median(np.diff(t_s)))
+    long_ = [(a, b) for a, b in gaps(valid, t_s) if (b - a) * dt > max_gap_s]
+    bounds = [0] + [x for a, b in long_ for x in (a, b)] + [len(t_s)]
+    pieces = list(zip(bounds[::2], bounds[1::2], strict=True))
+    i0, i1 = max(pieces, key=lambda p: p[1] - p[0])
+    return int(i0), int(i1), [(float(t_s[a]), float(t_s[b - 1] + dt)) for a, b in long_]
+
+
+def _slice(run: Run, i0: int, i1: int) -> Run:
+    return replace(run, t_s=run.t_s[i0:i1], markers_m=run.markers_m[i0:i1],
+                   raw_m=run.raw_m[i0:i1], notes=list(run.notes))
+
+
+def _check_pedalling(run: Run, kin: kinematics.Kinematics, cad: cadence_mod.Cadence) -> None:
+    from .. import spectral
+
+    foot = cadence_mod.foot_signal(run, kin)
+    amp = float(spectral.amplitude_at(foot - foot.mean(), run.sample_rate_hz, cad.cadence_hz))
+    if amp < MIN_FOOT_AMPLITUDE_M:
+        raise RunRefusedError(
+            f"run {run.run_id}: no pedalling found: the right-foot marker (1) moves "
+            f"{amp * 1e3:.1f} mm at its strongest frequency in the cadence band "
+            f"({cad.cadence_rpm:.2f} rpm), below {MIN_FOOT_AMPLITUDE_M * 1e3:.0f} mm (a pedalling "
+            "foot moves about one crank length, 170 mm): a frozen or towed run has no cadence; "
+            "refused")
+    rel = abs(cad.cadence_crank_rpm / cad.cadence_rpm - 1.0)
+    if rel > MAX_CADENCE_DISAGREEMENT:
+        raise RunRefusedError(
+            f"run {run.run_id}: no steady cadence: the foot's spectral peak "
+            f"({cad.cadence_rpm:.2f} rpm) and the mean crank-angle rate "
+            f"({cad.cadence_crank_rpm:.2f} rpm) differ by {100 * rel:.1f} % (more than "
+            f"{100 * MAX_CADENCE_DISAGREEMENT:g} %); refused")
+
+
+def analyse_run(path: str | Path | list | dict,
+                lowpass_hz: float | None = kinematics.LOWPASS_HZ) -> RunAnalysis:
+    """Read a run (``.mat`` or exports), extract its angles, cadence and cadence amplitudes.
+
+    Quality criteria (the same in the CLI and the pipeline): gaps over which the angles are
+    interpolated must be at most :data:`MAX_GAP_S` long and cover at most
+    :data:`MAX_INTERPOLATED_SHARE` of the Hann-weighted record; otherwise the longest stretch
+    between long gaps is analysed if it lasts :data:`MIN_SEGMENT_S` (``partial``, with a
+    note), else the run is refused. The right foot must move at least
+    :data:`MIN_FOOT_AMPLITUDE_M` at the cadence and the cadence must agree with the crank-angle
+    rate within :data:`MAX_CADENCE_DISAGREEMENT`.
+
+    Raises
+    ------
+    RunRefusedError
+        A criterion above fails (the message names it and the measured value).
+    MocapFileError, ValueError
+        Unreadable or incomplete files, static runs, too few markers.
+    """
+    from .. import spectral
+
+    run = load_run(path)
     if run.is_static:
         raise ValueError(f"{path}: run {run.run_id} is a static run (no motion to analyse)")
     kin = kinematics.extract(run, lowpass_hz=lowpass_hz)
+    notes: list[str] = []
+    i0, i1, long_gaps = usable_segment(kin.valid, run.t_s)
+    n = len(run.t_s)
+    partial = bool(long_gaps)
+    if not long_gaps:
+        h = spectral.window(n, "hann")
+        share = float(np.sum(h[~kin.valid]) / np.sum(h))
+        if share > MAX_INTERPOLATED_SHARE:
+            raise RunRefusedError(
+                f"run {run.run_id}: {100 * share:.1f} % of the (Hann-weighted) record is "
+                f"interpolated across gaps, more than {100 * MAX_INTERPOLATED_SHARE:g} %: the "
+                "cadence amplitudes would be too low; refused")
+    else:
+        dur = float(run.t_s[i1 - 1] - run.t_s[i0]) + 1.0 / run.sample_rate_hz
+        listed = ", ".join(f"{a:.2f}-{b:.2f} s ({b - a:.2f} s)" for a, b in long_gaps)
+        if dur < MIN_SEGMENT_S:
+            raise RunRefusedError(
+                f"run {run.run_id}: gaps longer than {MAX_GAP_S:g} s ({listed}) leave at most "
+                f"{dur:.1f} s without a long gap, less than the {MIN_SEGMENT_S:g} s needed; "
+                "interpolating over them would lower the cadence amplitudes; refused")
+        notes.append(f"PARTIAL: analysed {run.t_s[i0]:.2f}-{run.t_s[i0] + dur:.2f} s "
+                     f"({dur:.1f} of {n / run.sample_rate_hz:.1f} s): gaps longer than "
+                     f"{MAX_GAP_S:g} s at {listed} are not interpolated over")
+        run = _slice(run, i0, i1)
+        kin = kinematics.extract(run, lowpass_hz=lowpass_hz)
     cad = cadence_mod.detect_cadence(run, kin)
+    _check_pedalling(run, kin, cad)
     amps = cadence_mod.amplitudes_at_cadence(kin, cad, run.sample_rate_hz)
-    return RunAnalysis(run, kin, cad, amps)
+    amps_bin = cadence_mod.amplitudes_nearest_bin(kin, cad, run.sample_rate_hz)
+    seg = (float(run.t_s[0]), float(run.t_s[-1] + 1.0 / run.sample_rate_hz))
+    return RunAnalysis(run, kin, cad, amps, amps_bin, seg, partial, notes)
