@@ -128,8 +128,16 @@ def test_report_helpers(tmp_path):
     assert len(report.select(df, "2.2", "horizontal")) == 0
     assert len(report.select(df, "Table 4")) == 1
     html = report.rows_html(df)
-    assert "NRMSD &lt;vertical&gt; COM" in html and html.count("<tr") == 3
+    # header, two rows, and row b's note on a full-width line of its own (never cut off)
+    assert "NRMSD &lt;vertical&gt; COM" in html and html.count("<tr") == 4
+    assert 'id="report-a"' in html and 'id="report-b"' in html
+    assert html.count('colspan="6"') == 1 and "treadmill data not available" in html
     assert "No row" in report.rows_html(df.iloc[:0], empty="No row")
+    # other pages link the rows instead of re-printing them: counts, then only the findings
+    links = report.links_html(df)
+    assert "Report rows (2)" in links and "<td" not in links
+    assert links.count("<a href=") == 1
+    assert f'href="{report.REPORT_PAGE}#report-b"' in links
 
 
 def test_book_pages_are_in_the_toc():
@@ -144,6 +152,44 @@ def test_book_pages_are_in_the_toc():
              "notebooks/03_open_loop_response", "notebooks/04_validation", "conclusions",
              "appendices", "notebooks/reproduction_report", "deviations")]
     assert order == sorted(order)
+
+
+def _page_title(doc: str) -> str:
+    """The first ``# `` heading of a book page (notebook or MyST markdown)."""
+    path = paths.ROOT / "book" / (doc + ".md")
+    if doc.startswith("notebooks/"):
+        nb = json.loads((paths.ROOT / (doc + ".ipynb")).read_text())
+        text = "\n".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    else:
+        text = path.read_text()
+    return next(line[2:].strip() for line in text.splitlines() if line.startswith("# "))
+
+
+def test_book_section_numbers_are_unique():
+    """No two pages carry the same leading section number (issue 13: two sections were 3.3)."""
+    titles = {doc: _page_title(doc) for doc in report.book_pages()}
+    numbers = {}
+    for doc, title in titles.items():
+        m = re.match(r"([0-9]+(?:\.[0-9]+)*)\s", title)
+        if m:
+            numbers.setdefault(m.group(1), []).append(doc)
+    assert len(numbers) >= 6, titles  # 2, 3, 3.1-3.4, 4, 5
+    repeated = {n: docs for n, docs in numbers.items() if len(docs) > 1}
+    assert not repeated, repeated
+
+
+def test_notebook_code_is_folded_away():
+    """Every code cell of a book notebook is hidden (``hide-input``: folded, one click shows it)
+    or removed: readers see results and text, not loading code (issue 13, part 5)."""
+    bare = []
+    for nb_path in sorted((paths.ROOT / "notebooks").glob("*.ipynb")):
+        nb = json.loads(nb_path.read_text())
+        for i, cell in enumerate(nb["cells"]):
+            tags = cell.get("metadata", {}).get("tags", [])
+            if cell["cell_type"] == "code" and not any(
+                    t in ("hide-input", "hide-cell", "remove-input", "remove-cell") for t in tags):
+                bare.append(f"{nb_path.name} cell {i}")
+    assert not bare, bare
 
 
 def test_deviations_page_covers_every_erratum():

@@ -121,6 +121,21 @@ def test_book_is_offline(quick_workflow):
     assert '_static/mathjax/tex-mml-chtml.js' in appendices
 
 
+def test_book_shows_no_machine_paths(quick_workflow):
+    """No page prints where this machine keeps the results, the repository or the home folder
+    (issue 13: a chapter printed a local absolute path)."""
+    import os
+
+    assert quick_workflow.returncode == 0
+    html_root = quick_workflow.results / "book" / "_build" / "html"
+    needles = {str(quick_workflow.results.resolve()), str(paths.ROOT.resolve()),
+               os.path.expanduser("~")}
+    found = {str(p.relative_to(html_root)): n for p in html_root.rglob("*.html")
+             if "_static" not in p.parts
+             for n in needles if n and n != "/" and n in p.read_text(errors="replace")}
+    assert not found, found
+
+
 def test_snakemake_lint_clean_apart_from_environment_notice():
     proc = subprocess.run(
         [sys.executable, "-m", "snakemake", "--lint", "--configfile", "config/quick.yaml",
