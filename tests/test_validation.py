@@ -127,8 +127,13 @@ def test_report_rows_status_by_data_source(published):
     t41 = validation.table_4_1(measured, selection, model, "figshare")
     rows = validation.report_rows(t41, t42, published, "synthetic", "offline (test)")
     meas = [r for r in rows if "measured" in r.item or "Table 4.2" in r.item or "median" in r.item]
-    assert meas and all(r.status == report.NOT_REPRODUCIBLE and r.note == "offline (test)"
+    assert meas and all(r.status == report.NOT_REPRODUCIBLE and r.note.startswith("offline (test)")
                         for r in meas)
+    # a synthetic value never sits in the "reproduced" cell beside a published number; the note
+    # carries it, labelled SYNTHETIC (issue 13 part 4): here Table 4.1's first measured roll
+    assert all(r.reproduced == "n/a" for r in meas)
+    first = next(r for r in rows if r.id == "table_4_1.measured.roll.HR_18.1")
+    assert f"SYNTHETIC stand-in value: {t41.roll_measured_rad.iloc[0]:.3f}" in first.note
     # the model columns are the linear part's rows (linear_report.py), not repeated here: 14
     # measured, 2 median RD and 12 Table 4.2 rows
     assert not [r for r in rows if "model" in r.item]

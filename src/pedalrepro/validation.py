@@ -35,6 +35,49 @@ NOT_MEASUREMENT = ("figshare unreachable from this machine; the synthetic stand-
                    "measurement")
 
 
+#: What a table shows for each ``data_source`` value in its first column (:func:`labelled`).
+DATA_LABELS: dict[str, str] = {"synthetic": "SYNTHETIC", "figshare": "measured",
+                               "public_subset": "measured (public subset)"}
+
+
+def labelled(table: pd.DataFrame) -> pd.DataFrame:
+    """A chapter-4 table as the book shows it: its first column ``data`` says where each row's
+    measured values come from (``SYNTHETIC``, ``measured`` or ``measured (public subset)``,
+    :data:`DATA_LABELS`), in place of the last column ``data_source`` (issue 13, part 4).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"system": ["HR", "HR"], "data_source": ["synthetic", "public_subset"]})
+    >>> labelled(t).to_dict("list")
+    {'data': ['SYNTHETIC', 'measured (public subset)'], 'system': ['HR', 'HR']}
+    """
+    if "data_source" not in table:
+        raise KeyError("labelled() needs the column data_source")
+    unknown = set(table["data_source"]) - set(DATA_LABELS)
+    if unknown:
+        raise ValueError(f"unknown data_source values {sorted(unknown)}")
+    out = table.drop(columns="data_source")
+    out.insert(0, "data", table["data_source"].map(DATA_LABELS).to_numpy())
+    return out
+
+
+def caption(text: str, data_sources) -> str:
+    """A table or figure caption led by ``SYNTHETIC:`` when any of its rows comes from the
+    stand-in (the label must be seen where the table is, not in its last column).
+
+    >>> caption("Table.", ["synthetic", "public_subset"])
+    'SYNTHETIC (stand-in, not the measurement) except rows marked measured: Table.'
+    >>> caption("Table.", ["figshare"])
+    'Table.'
+    """
+    sources = set(data_sources)
+    if "synthetic" not in sources:
+        return text
+    if sources == {"synthetic"}:
+        return "SYNTHETIC (stand-in, not the measurement): " + text
+    return "SYNTHETIC (stand-in, not the measurement) except rows marked measured: " + text
+
+
 def rd_percent(measured, model) -> np.ndarray:
     """Relative difference ``|measured - model| / measured * 100`` (Table 4.1 caption)."""
     measured = np.asarray(measured, float)
@@ -176,7 +219,17 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
     rows: list[report.Row] = []
     synthetic = data_source != "figshare"
     why = (reason or NOT_MEASUREMENT) if synthetic else None
-    label = " (synthetic)" if synthetic else ""
+
+    def check(claim_id: str, value: float, **fields) -> report.Row:
+        # a SYNTHETIC value never stands in the "reproduced" cell beside a published number: the
+        # cell says n/a and the note gives the stand-in's value, labelled (issue 13, part 4)
+        if not synthetic:
+            return report.check(claim_id, value, **fields)
+        c = report.claim(claim_id)
+        return report.check(c, None, unavailable=why,
+                            note=f"{why}. SYNTHETIC stand-in value: {c.fmt.format(value)} "
+                                 "(not a measurement, not compared)", **fields)
+
     pub = published["table_4_1_model_validation"]
     runs = t41[~t41.system.isin(["median", "range"])].reset_index(drop=True)
     for i, (sys_, v) in enumerate(zip(pub["system"], pub["speed_kmh"], strict=True)):
@@ -185,21 +238,20 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
             raise ValueError(f"Table 4.1 lacks {sys_} at {v} km/h")
         row = hit.iloc[0]
         for q in ("roll", "steer"):
-            rows.append(report.check(
+            rows.append(check(
                 "table_4_1.measured.{coord}.{system}_{speed}", float(row[f"{q}_measured_rad"]),
-                coord=q, system=sys_, speed=v, i=i, label=label, unavailable=why))
+                coord=q, system=sys_, speed=v, i=i))
     for q in ("roll", "steer"):
         got = float(t41.loc[t41.system == "median", f"{q}_rd_percent"].iloc[0])
-        rows.append(report.check("table_4_1.median_rd.{coord}", got, coord=q, label=label,
-                                 unavailable=why))
+        rows.append(check("table_4_1.median_rd.{coord}", got, coord=q))
     p42 = published["table_4_2_open_vs_closed_loop"]
     for i, sys_ in enumerate(p42["systems"]):
         hit = t42[t42.system == sys_]
         for key in ("roll_rd_median_percent", "roll_rd_range_percent",
                     "steer_rd_median_percent", "steer_rd_range_percent"):
-            rows.append(report.check(
+            rows.append(check(
                 "table_4_2.{key}.{system}", float(hit[key].iloc[0]), key=key, system=sys_, i=i,
-                quantity=key.replace("_", " "), label=label, unavailable=why))
+                quantity=key.replace("_", " ")))
     return rows
 
 
