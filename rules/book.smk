@@ -57,21 +57,26 @@ rule book:
         # the notebooks, every pedalrepro module their code cells import, and the data files
         # those modules declare (pedalrepro.dependencies)
         code_inputs(*sorted(f"../{p}" for p in Path("notebooks").glob("*.ipynb"))),
+        # the API reference page (book/api.md) shows every module's docstrings (autodoc)
+        sorted(str(p) for p in Path("src/pedalrepro").rglob("*.py")),
     output:
         BOOK_INDEX,
     params:
         out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
         figures=lambda wildcards: str(_paths.figures(R)),
+        tables=lambda wildcards: str(_paths.tables(R)),
     log:
         logfile("book"),
     message:
         "Building the jupyter-book (strict) into {params.out}/_build/html (log: {log})"
     # Every figure in the book links its full-size PNG and its PDF, served from
-    # _build/html/figures/ (pedalrepro.figures.BOOK_FIGURES_HREF).
+    # _build/html/figures/ (pedalrepro.figures.BOOK_FIGURES_HREF), every table its CSV from
+    # _build/html/tables/ (BOOK_TABLES_HREF); the page Downloads lists them all.
     shell:
         "jupyter-book build --all -W -n --keep-going book/ --path-output {params.out} > {log} 2>&1"
         " || {{ tail -n 40 {log} >&2; exit 1; }}"
-        " && mkdir -p {params.out}/_build/html/figures"
+        " && mkdir -p {params.out}/_build/html/figures {params.out}/_build/html/tables"
         " && {{ test ! -d {params.figures}"
-        " || find {params.figures} -maxdepth 1 -name '*.p[nd][gf]'"
-        " -exec cp -t {params.out}/_build/html/figures/ {{}} + ; }}"
+        " || cp -r {params.figures}/. {params.out}/_build/html/figures/ ; }}"
+        " && {{ test ! -d {params.tables}"
+        " || cp -r {params.tables}/. {params.out}/_build/html/tables/ ; }}"

@@ -192,6 +192,23 @@ def test_notebook_code_is_folded_away():
     assert not bare, bare
 
 
+def test_api_reference_documents_every_module():
+    """book/api.md has an ``automodule`` for every public module of the package (a new module
+    must be added to the API reference), and the book's Sphinx loads autodoc and napoleon."""
+    src = paths.ROOT / "src"
+    modules = {".".join(p.relative_to(src).with_suffix("").parts).removesuffix(".__init__")
+               for p in (src / "pedalrepro").rglob("*.py")
+               if not any(part.startswith("_") and part != "__init__.py" for part in p.parts)
+               and p.name != "__main__.py"}
+    text = (paths.BOOK / "api.md").read_text()
+    documented = set(re.findall(r"^\.\. automodule:: (\S+)$", text, re.M))
+    assert len(modules) >= 60
+    assert modules == documented, (sorted(modules - documented), sorted(documented - modules))
+    config = yaml.safe_load((paths.BOOK / "_config.yml").read_text())["sphinx"]["config"]
+    assert {"sphinx.ext.autodoc", "sphinx.ext.napoleon"} <= set(config["extensions"])
+    assert '"api"' in json.dumps(yaml.safe_load((paths.BOOK / "_toc.yml").read_text()))
+
+
 def test_deviations_page_covers_every_erratum():
     """Each of the 17 errata items, and the later findings (Table 4.1 rounding boundary, Fig H.6
     caption, example points, steer sign of convertData.m), has its own treatment (keywords)."""

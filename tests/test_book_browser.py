@@ -8,8 +8,10 @@ or table id the pipeline produced (``results/figures/<id>.png``, ``results/table
 in the book"). Figures drawn for the page (issue 13): every figure link (the image and its
 caption's "Full size: PNG · PDF") opens the full-size file, and no figure displays below 60 % of
 its native width unless it is linked full size; the displayed-size statistics are printed.
-Screenshots of the report page and of a chapter-3 page are saved as ``<results>/book/report.png``
-and ``<results>/book/chapter3.png``.
+No table is wider than the content column unless a scroll container holds it, and every link of
+the Downloads page (each result table's CSV, each figure's PNG and PDF) opens. Screenshots of the
+report page, a chapter-3 page and the own-bicycle page are saved as ``<results>/book/report.png``,
+``chapter3.png`` and ``own_bicycle.png``.
 
 Uses Debian's chromium (``apt-get install chromium chromium-driver``; ``scripts/setup.sh
 --browser``) through playwright; skipped with the reason when it is missing, unless
@@ -40,6 +42,25 @@ LOCAL_HOSTS = {"127.0.0.1", "localhost"}
 #: Smallest displayed / native width of a figure not linked to its full-size file.
 MIN_DISPLAYED_FRACTION = 0.6
 CHAPTER3_PAGE = "notebooks/03_2_time_frequency.html"
+OWN_BICYCLE_PAGE = "notebooks/06_own_bicycle.html"
+DOWNLOADS_PAGE = "notebooks/downloads.html"
+#: Screenshots saved under <results>/book/ (issue 13, part 7).
+SCREENSHOTS = {"notebooks/reproduction_report.html": "report.png", CHAPTER3_PAGE: "chapter3.png",
+               OWN_BICYCLE_PAGE: "own_bicycle.png"}
+#: Tables wider than the content column, with no scroll container between them and it.
+OVERFLOWING_TABLES_JS = """() => {
+    const main = document.querySelector('main') || document.body;
+    const right = main.getBoundingClientRect().right + 1;
+    return Array.from(main.querySelectorAll('table')).filter(t => {
+        if (t.getBoundingClientRect().right <= right) return false;
+        for (let p = t.parentElement; p && p !== main; p = p.parentElement) {
+            const ox = getComputedStyle(p).overflowX;
+            if (ox === 'auto' || ox === 'scroll') return false;
+        }
+        return true;
+    }).map(t => (t.closest('[data-figure-id]')?.dataset.figureId || '') + ' '
+                + t.innerText.slice(0, 60).replace(/\\s+/g, ' '));
+}"""
 
 
 def _require_browser() -> None:
@@ -109,6 +130,8 @@ def test_every_page_in_a_browser(served_book):
     foreign: list[str] = []
     shown: dict[str, str] = {}
     mathjax_pages = 0
+    n_tables = 0
+    downloads: list[str] = []
     sizes: list[dict] = []  # one per figure image: id, native and displayed width, links
 
     with sync_playwright() as pw:
@@ -160,12 +183,26 @@ def test_every_page_in_a_browser(served_book):
                 if n_typeset == 0:
                     problems.append(f"{rel}: math not typeset by MathJax")
                 mathjax_pages += 1
-            if rel == "notebooks/reproduction_report.html":
-                shot = results / "book" / "report.png"
-                page.screenshot(path=str(shot), full_page=True)
-            if rel == CHAPTER3_PAGE:
-                page.screenshot(path=str(results / "book" / "chapter3.png"), full_page=True)
+            problems.extend(f"{rel}: table overflows the column without a scroll container: {t}"
+                            for t in page.evaluate(OVERFLOWING_TABLES_JS))
+            n_tables += page.evaluate("() => document.querySelectorAll('main table').length")
+            if rel in SCREENSHOTS:
+                page.screenshot(path=str(results / "book" / SCREENSHOTS[rel]), full_page=True)
+            if rel == DOWNLOADS_PAGE:
+                downloads = page.eval_on_selector_all(
+                    "main a[href$='.csv'], main a[href$='.png'], main a[href$='.pdf']",
+                    "els => els.map(e => e.href)")
             page.close()
+        # the Downloads page links every result table (CSV) and figure (PNG, PDF); each opens
+        expected = ({p.relative_to(results / "tables").as_posix()
+                     for p in (results / "tables").rglob("*.csv")}
+                    | {p.relative_to(results / "figures").as_posix()
+                       for p in (results / "figures").rglob("*.p[nd][gf]")})
+        linked = {h.split("/tables/", 1)[-1] if "/tables/" in h else h.split("/figures/", 1)[-1]
+                  for h in downloads}
+        assert expected and expected <= linked, sorted(expected - linked)[:10]
+        bad_downloads = [h for h in downloads if not context.request.get(h).ok]
+        assert not bad_downloads, bad_downloads[:10]
         # every figure link opens the full-size file: the PNG at least as wide as the image
         # shown, the PDF a PDF
         link_problems = []
@@ -218,6 +255,9 @@ def test_every_page_in_a_browser(served_book):
     width, height = _png_size(results / "book" / "report.png")
     assert width >= 1000 and height >= 600
     assert _png_size(results / "book" / "chapter3.png")[1] >= 2000  # a long page, full
+    assert _png_size(results / "book" / "own_bicycle.png")[1] >= 900
+    print(f"\ntables: {n_tables} on {len(pages)} pages, none overflowing without a scroll "
+          f"container; downloads: {len(downloads)} links opened")
     print(f"\nbrowser: {len(pages)} pages, {len(shown)} of {len(coverage)} figure ids shown, "
           f"screenshot {width}x{height} px at {results / 'book' / 'report.png'}")
 

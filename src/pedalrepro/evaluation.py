@@ -5,19 +5,19 @@ Relative difference of cadence amplitudes (Eq 3.26)::
     RD_{1->2} = | (|phi_1| - |phi_2|) / |phi_1| | * 100 %
 
 with case 1 the reference. The evaluation points this module computes need only linear
-methods (the others, 1a and 1b, need the non-linear models):
+methods (the others, 1a and 1b, need the non-linear models)::
 
-====  =====================================================  ===========  ==============
-point what                                                   reference 1  case 2
-====  =====================================================  ===========  ==============
-1c    neglect speed and gravity                              PS           CAM
-2b    drop the 3w and 5w harmonics                           LA T(w,3w,5w) LA T(w)
-3a    numerical vs analytic time solution                    LA           LN
-3b    DFT of the time solution vs particular solution        PS           LA (Hann DFT)
-4     cycling condition vs the reference 60 rpm, 5 m/s        PS(ref)      PS(v, w)
-5     posture: rigid rider for hands on the bars             HS / CF      HR / CR
-6     bicycle design: city vs hybrid                         HR           CR
-====  =====================================================  ===========  ==============
+    ====  =====================================================  ===========  ==============
+    point what                                                   reference 1  case 2
+    ====  =====================================================  ===========  ==============
+    1c    neglect speed and gravity                              PS           CAM
+    2b    drop the 3w and 5w harmonics                           LA T(w,3w,5w)  LA T(w)
+    3a    numerical vs analytic time solution                    LA           LN
+    3b    DFT of the time solution vs particular solution        PS           LA (Hann DFT)
+    4     cycling condition vs the reference 60 rpm, 5 m/s        PS(ref)      PS(v, w)
+    5     posture: rigid rider for hands on the bars             HS / CF      HR / CR
+    6     bicycle design: city vs hybrid                         HR           CR
+    ====  =====================================================  ===========  ==============
 
 Six numbered example points (Fig 3.10-3.29) lie on one gear-ratio line, GR ~ 2.3 (Sec 3.2.1).
 The thesis does not list them; this project reads them as six equally spaced points of the

@@ -396,7 +396,7 @@ class OrbitSolver:
 
         Returns ``z1`` (4,), ``G = dz1/dz`` (4 x 4, when ``variational``), the Fourier
         quadratures ``quad`` (roll cos, roll sin, steer cos, steer sin, holding force), ``peak``
-        (max |roll|, max |steer|) and ``n_rhs``.
+        (max ``|roll|``, max ``|steer|``) and ``n_rhs``.
         """
         y, dydz = self.state(z)
         nvar = 4 if variational else 0
@@ -677,7 +677,7 @@ class Branch:
     ``parameter`` is ``"speed_m_s"`` or ``"omega_rad_s"``; arrays run along the branch (in
     arclength order, so a fold shows as a parameter that turns back). ``crossings``: where the
     number of Floquet multipliers outside the unit circle changes, with the parameter value
-    (interpolated in log |mu|) and the kind of crossing (``+1``, ``-1`` or ``complex``).
+    (interpolated in ``log |mu|``) and the kind of crossing (``+1``, ``-1`` or ``complex``).
     """
 
     model: str
@@ -751,7 +751,7 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
         ``fixed``: the speed, m/s).
     refine
         Locate each multiplier crossing by bisection to this parameter tolerance (``None``:
-        linear interpolation of log |mu| between branch points only).
+        linear interpolation of ``log |mu|`` between branch points only).
     """
     if parameter not in ("speed_m_s", "omega_rad_s"):
         raise ValueError(f"unknown continuation parameter {parameter!r}")

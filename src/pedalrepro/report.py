@@ -584,7 +584,7 @@ def book_pages(toc_path: str | Path | None = None) -> list[str]:
 # --- Pinned statuses --------------------------------------------------------------------------
 #: Where the expected status of every report row is pinned, per profile (a test expectation).
 EXPECTED_STATUS_FILE = "tests/expected_status.csv"
-#: The profiles with a column in the expected-status file (``profile`` in config/*.yaml).
+#: The profiles with a column in the expected-status file (``profile`` in ``config/*.yaml``).
 PROFILES: tuple[str, ...] = ("quick", "thesis")
 
 

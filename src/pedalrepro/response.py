@@ -154,7 +154,7 @@ def superposed_amplitude(q: np.ndarray, n: np.ndarray, samples: int = 256) -> np
     """Peak amplitude ``max_t |Re sum_k q_k exp(i n_k w t)|`` of a multi-harmonic response.
 
     Evaluated on ``samples`` points of one cadence period (odd harmonics only: the signal is
-    half-wave antisymmetric, so max |x| is the amplitude).
+    half-wave antisymmetric, so ``max |x|`` is the amplitude).
     """
     theta = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
     phase = np.exp(1j * np.asarray(n)[:, None] * theta[None, :])  # (k, s)
@@ -170,7 +170,7 @@ def superposed_amplitude(q: np.ndarray, n: np.ndarray, samples: int = 256) -> np
 class TimeSolution:
     """Time solutions on a speed x cadence grid (one method, one model).
 
-    ``roll``/``steer`` are sampled at ``t_s``; NaN after a fall (|roll| >= the fall angle).
+    ``roll``/``steer`` are sampled at ``t_s``; NaN after a fall (``|roll|`` >= the fall angle).
     """
 
     speed_m_s: np.ndarray  # (n_v,)

@@ -39,6 +39,8 @@ def thesis_label(figure_id: str) -> str:
 #: Where the book serves the figure files, relative to a chapter page (``notebooks/*.html``):
 #: the rule ``book`` copies ``results/figures`` to ``_build/html/figures``.
 BOOK_FIGURES_HREF = "../figures/"
+#: ... and the result tables, from ``results/tables`` (the same copy, subfolders included).
+BOOK_TABLES_HREF = "../tables/"
 
 
 def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | None = None,
@@ -49,7 +51,8 @@ def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | N
     the page needs no other file) or an HTML table, and a caption led by the thesis number.
 
     ``link``: the image opens the full-size PNG, and the caption links the PNG and the PDF (vector)
-    served beside the book (:data:`BOOK_FIGURES_HREF`)."""
+    served beside the book (:data:`BOOK_FIGURES_HREF`); for a table, the caption links its CSV
+    (:data:`BOOK_TABLES_HREF`)."""
     import base64
     import html
 
@@ -69,6 +72,9 @@ def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | N
                     f'</a> · <a href="{href}.pdf">PDF (vector)</a></span>')
     elif table_html is not None:
         body = f'<div class="pedalrepro-table" style="overflow-x:auto">{table_html}</div>'
+        if link:
+            cap += (f' <span class="pedalrepro-downloads">Download: <a '
+                    f'href="{BOOK_TABLES_HREF}{figure_id}.csv">CSV</a></span>')
     else:
         raise ValueError("figure_html needs png= or table_html=")
     return (f'<figure class="pedalrepro-figure" id="pedalrepro-{figure_id}" '
@@ -115,7 +121,8 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
     if isinstance(obj, pd.DataFrame):
         table = obj.to_html(index=False, border=0, classes="table",
                             float_format=lambda x: float_format.format(x))
-        bundle["text/html"] = figure_html(figure_id, table_html=table, caption=caption)
+        bundle["text/html"] = figure_html(figure_id, table_html=table, caption=caption,
+                                          link=paths.table(figure_id).exists())
     else:
         if isinstance(obj, (str, Path)):
             png = Path(obj).read_bytes()

@@ -70,7 +70,8 @@ def declare(lib: ctypes.CDLL) -> ctypes.CDLL:
 
 @cache
 def linear_library() -> ctypes.CDLL | None:
-    """The integrator with the linear right-hand side (:mod:`.linear`), or None (no compiler)."""
+    """The integrator with the linear right-hand side (:mod:`pedalrepro.integrator.linear`), or
+    None (no compiler)."""
     source = (DOPRI_C.read_text() + "\n" + LINEAR_RHS_C.read_text())
     path = build(source, cache_root() / "integrator", "linear")
     return None if path is None else declare(ctypes.CDLL(str(path)))

@@ -214,7 +214,7 @@ STEER_REACH_FRACTION = 0.95
 
 
 def steer_reach_rad(loop: ArmLoop, bench: dict) -> float:
-    """Largest |steer| (rad) at which both arms still reach the grips (bisection, 1e-12)."""
+    """Largest ``|steer|`` (rad) at which both arms still reach the grips (bisection, 1e-12)."""
 
     def closes(delta: float) -> bool:
         with np.errstate(invalid="ignore"):  # sqrt of a negative number: the loop is open

@@ -9,7 +9,7 @@ B and H): a five-parameter family of exact solutions. This module picks the memb
 measured frames:
 
     minimise   sum_k ((p_k - p0_k) / s_k)^2 over the 12 frame parameters p_k (nominal p0_k:
-               the measured frames), s_k = |p0_k| (masses, COM coordinates, moments of
+               the measured frames), s_k = ``|p0_k|`` (masses, COM coordinates, moments of
                inertia), s_k = sqrt(Ixx0 Izz0) (products of inertia),
     subject to the 16 entries of the linearisation (legs fixed at crank angle 0) = Appendix B,
                masses > min_mass_kg, central inertias positive definite and satisfying the

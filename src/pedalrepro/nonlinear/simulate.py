@@ -43,8 +43,11 @@ class ForcedModel:
         Pedalling torques of Eq 3.14 (``n``, ``roll``, ``steer``) at cadence ``omega_rad_s``
         (none when ``harmonics`` is None or ``omega_rad_s`` is 0).
     torque
-        Instead of ``harmonics``: any ``t -> (roll torque, steer torque)`` (N m); Python only.
+        Instead of ``harmonics``, a callable ``torque(t)`` returning the roll and steer torques
+        (N m); Python only.
 
+    Notes
+    -----
     State ``[roll, pitch, steer, roll rate, rear wheel rate, steer rate]``
     (:mod:`.numeric`); ``steer_limit_rad`` is the model's (arm reach of CF).
     """

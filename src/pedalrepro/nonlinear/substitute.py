@@ -8,7 +8,7 @@ therefore uses a documented substitute that is faithful in the linear limit
 (``data/parameters/nonlinear_models.yaml``, book page "Deviations and ambiguities"). CF (flexed
 arms, hinged at shoulders and elbows) is built with its own arm loops
 (:mod:`pedalrepro.nonlinear.arms`); the machinery below would serve any model whose yaml entry
-has a ``substitute`` key:
+has a ``substitute`` key::
 
     substitute = rigid-rider model of the same bicycle (the HR / CR bodies, moving legs for NP)
                  + dM q'' + v dC1 q' + (g dK0 + v^2 dK2) q  on the roll and steer equations,
