@@ -205,6 +205,31 @@ def test_cadence_continuation_follows_the_orbits():
     assert np.max(br.residual) <= 1e-9
 
 
+def test_torque_scale_continuation_follows_the_orbits():
+    """NT branch in torque scale (HR, 5 m/s, 60 rpm): each continued point is the orbit solved
+    directly at its scale (independent Newton problems, same integrator: 1e-8); amplitude per
+    unit scale starts at the linear limit (PS of the own linearisation at scale 0.05: the cubic
+    terms' share, ~0.03 % per unit scale squared here, leaves ~1e-6, so 1e-4 relative) and changes
+    smoothly (no jump between neighbours above 1e-3)."""
+    br = periodic.continue_branch("HR", "NT", "torque_scale", 0.05, 2.0, 5.0, cadence_rad_s=OMEGA,
+                                  ds=0.5, ds_max=2.0)
+    assert br.values[0] == 0.05 and br.values[-1] >= 2.0 and np.max(br.residual) <= 1e-9
+    k = len(br.values) // 2
+    direct = periodic.OrbitSolver("HR", "NT", OMEGA, torque_scale=br.values[k]).solve(5.0)
+    assert br.roll_amp_rad[k] == pytest.approx(direct.roll_amplitude_rad, rel=1e-8)
+    assert br.steer_amp_rad[k] == pytest.approx(direct.steer_amplitude_rad, rel=1e-8)
+    roll_ps, _ = _ps(periodic.OrbitSolver("HR", "NT", OMEGA), 5.0)  # torque scale 1
+    per_unit = br.roll_amp_rad / br.values
+    assert per_unit[0] == pytest.approx(abs(roll_ps), rel=1e-4)
+    assert np.max(np.abs(np.diff(per_unit)) / per_unit[:-1]) < 1e-3
+    with pytest.raises(ValueError, match="NT"):
+        periodic.continue_branch("HR", "NP", "torque_scale", 0.1, 1.0, 5.0, cadence_rad_s=OMEGA)
+    with pytest.raises(ValueError, match="positive"):
+        periodic.continue_branch("HR", "NT", "torque_scale", 0.0, 1.0, 5.0, cadence_rad_s=OMEGA)
+    with pytest.raises(ValueError, match="cadence_rad_s"):
+        periodic.continue_branch("HR", "NT", "torque_scale", 0.1, 1.0, 5.0)
+
+
 @pytest.mark.workflow
 def test_quick_workflow_orbits_converge_with_small_residual(quick_workflow):
     """Every orbit map of the quick profile (all models, NT and NP, stable and unstable speeds):

@@ -33,9 +33,9 @@ half period) are the Floquet multipliers. The cadence-harmonic amplitude and pha
 are exact Fourier quadratures integrated with the state (``x ~ Re(c e^{i w t})``, the PS
 convention of :func:`pedalrepro.response.particular_solution`).
 
-Continuation. :func:`continue_branch` follows a branch in speed or (NT) cadence with a secant
-predictor and a pseudo-arclength corrector and marks where a Floquet multiplier crosses the unit
-circle.
+Continuation. :func:`continue_branch` follows a branch in speed, or for NT in cadence or torque
+scale (where folds appear at large torques near the weave resonance), with a secant predictor
+and a pseudo-arclength corrector, and marks where a Floquet multiplier crosses the unit circle.
 """
 
 from __future__ import annotations
@@ -734,7 +734,7 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
                     fixed: float, *, ds: float = 0.1, ds_min: float = 1e-3, ds_max: float = 0.5,
                     max_points: int = 400, torque_scale: float = 1.0, rtol: float = 1e-9,
                     max_growth: float = 100.0, tol: float = 1e-11,
-                    refine: float | None = 1e-4) -> Branch:
+                    refine: float | None = 1e-4, cadence_rad_s: float | None = None) -> Branch:
     """Follow a branch of periodic orbits from ``start`` to ``stop`` in ``parameter``.
 
     Secant predictor and pseudo-arclength corrector (Doedel et al. 2003; Keller's method):
@@ -747,16 +747,26 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
     Parameters
     ----------
     parameter
-        ``"speed_m_s"`` (``fixed``: the cadence, rad/s) or ``"omega_rad_s"`` (NT only;
-        ``fixed``: the speed, m/s).
+        ``"speed_m_s"`` (``fixed``: the cadence, rad/s), ``"omega_rad_s"`` (NT only;
+        ``fixed``: the speed, m/s) or ``"torque_scale"`` (NT only: the factor on the pedalling
+        torques, where folds appear at large torques near the weave resonance; ``fixed``: the
+        speed, m/s, and ``cadence_rad_s`` the cadence). Start a torque-scale branch above 0 (the
+        orbit of scale 0 is the trivial one, and the unknowns are scaled by the first orbit).
     refine
         Locate each multiplier crossing by bisection to this parameter tolerance (``None``:
         linear interpolation of ``log |mu|`` between branch points only).
     """
-    if parameter not in ("speed_m_s", "omega_rad_s"):
+    if parameter not in ("speed_m_s", "omega_rad_s", "torque_scale"):
         raise ValueError(f"unknown continuation parameter {parameter!r}")
-    if parameter == "omega_rad_s" and method != "NT":
-        raise ValueError("continuation in cadence is available for NT (NP's legs depend on it)")
+    if parameter in ("omega_rad_s", "torque_scale") and method != "NT":
+        raise ValueError(f"continuation in {parameter} is available for NT (NP has no torques "
+                         "and its legs depend on the cadence)")
+    if parameter == "torque_scale":
+        if cadence_rad_s is None:
+            raise ValueError("continuation in torque_scale needs cadence_rad_s")
+        if min(start, stop) <= 0.0:
+            raise ValueError("a torque-scale branch runs over positive scales "
+                             f"(got {start} .. {stop})")
     kw = dict(torque_scale=torque_scale, rtol=rtol, max_growth=max_growth)
     solvers: dict[float, OrbitSolver] = {}
 
@@ -766,7 +776,10 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
                                                                         **kw))
             s.set_speed(p)
             return s
-        s = OrbitSolver(model, method, p, **kw)
+        if parameter == "torque_scale":
+            s = OrbitSolver(model, method, cadence_rad_s, **dict(kw, torque_scale=p))
+        else:
+            s = OrbitSolver(model, method, p, **kw)
         s.set_speed(fixed)
         return s
 
@@ -776,13 +789,15 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
     if parameter == "speed_m_s":
         s0 = solver_at(start)
         m = max(s0.segments_for(p) for p in probe)
+    elif parameter == "torque_scale":
+        m = solver_at(start).segments_for(fixed)
     else:
         m = max(OrbitSolver(model, method, max(p, 1e-3), **kw).segments_for(fixed)
                 for p in probe[:1])
 
     def first(p: float) -> Orbit:
         s = solver_at(p)
-        return s.solve(fixed if parameter == "omega_rad_s" else p, segments=m)
+        return s.solve(p if parameter == "speed_m_s" else fixed, segments=m)
 
     o0 = first(start)
     if not o0.converged:
@@ -791,7 +806,7 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
     direction = 1.0 if stop >= start else -1.0
     p1 = start + direction * min(ds, abs(stop - start))
     s = solver_at(p1)
-    o1 = s.solve(fixed if parameter == "omega_rad_s" else p1, start=o0.nodes)
+    o1 = s.solve(p1 if parameter == "speed_m_s" else fixed, start=o0.nodes)
     if not o1.converged:
         raise ConvergenceError(f"no orbit at {parameter} = {p1}", o1.periodicity_residual)
     zs = max(float(np.max(np.abs(o0.nodes))), 1e-12)
@@ -874,7 +889,7 @@ def _refine_crossing(solver_at, parameter, fixed, pts, crossing, tol) -> float:
     while abs(b - a) > tol:
         mid = 0.5 * (a + b)
         s = solver_at(mid)
-        o = s.solve(fixed if parameter == "omega_rad_s" else mid, start=oa.nodes)
+        o = s.solve(mid if parameter == "speed_m_s" else fixed, start=oa.nodes)
         if not o.converged:
             break
         if int(np.sum(np.abs(o.floquet_multipliers) > 1.0)) == na:
