@@ -130,15 +130,7 @@ class _Adapter:
         """C source with the model's generated ``constraint_matrix`` and ``dynamics``."""
         from .nonlinear import codegen
 
-        if hasattr(codegen, "generated_c"):  # the generated functions alone
-            return Path(codegen.generated_c(nl.options)).read_text()
-        so = codegen.compiled_library(nl.options)  # the full source is kept beside it
-        if so is None:
-            raise RuntimeError("no C compiler: the periodic driver needs the compiled model")
-        c_file = Path(so).with_suffix(".c")
-        if not c_file.exists():
-            raise FileNotFoundError(f"generated C source of the model missing: {c_file}")
-        return c_file.read_text()
+        return Path(codegen.generated_c(nl.options)).read_text()
 
     @staticmethod
     @cache
