@@ -13,17 +13,13 @@ import pooch
 import pytest
 import requests
 import scipy.io
+from mocap_data import CFG as _STAND_IN
+from mocap_data import SEED
 
 from pedalrepro import cli, params
 from pedalrepro.mocap import fetch, kinematics, reader, runs, synthetic
 
-CFG = {
-    "duration_s": 60.0, "sample_rate_hz": 100.0, "marker_noise_m": 0.00015,
-    "gaps_per_marker_per_min": 3.0, "max_gap_s": 1.5, "repair_gap_max_s": 0.5,
-    "max_runs_per_system": 3, "stand_in_gear_ratios": [1.6, 2.0, 2.4, 2.8],
-    "stand_in_cadence_rpm": 75.0,
-}
-SEED = 20090115
+CFG = {**_STAND_IN, "max_runs_per_system": 3}
 
 
 def _wrap(a):
