@@ -104,6 +104,12 @@ def test_figure_coverage_counts_result_files(monkeypatch, tmp_path):
     paths.table("table_d_1").write_text("x\n1\n")
     cov = report.figure_coverage()
     assert sorted(cov.loc[cov["present"], "id"]) == ["fig_2_3", "fig_g_7", "table_d_1"]
+    # another results folder, named: tables and figures both looked up there (the registry's
+    # coverage(root) once counted tables in the default folder only)
+    monkeypatch.setenv("PEDALREPRO_RESULTS", str(tmp_path / "elsewhere"))
+    assert report.figure_coverage()["present"].sum() == 0
+    cov = report.figure_coverage(tmp_path)
+    assert sorted(cov.loc[cov["present"], "id"]) == ["fig_2_3", "fig_g_7", "table_d_1"]
 
 
 @pytest.mark.parametrize("section, chapter", [

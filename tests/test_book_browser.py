@@ -245,7 +245,7 @@ def test_every_page_in_a_browser(served_book):
     print(f"figure ids: {coverage_status}")
     assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
     # every id the pipeline produced is shown; every id shown is a thesis id
-    coverage = report.figure_coverage()
+    coverage = report.figure_coverage(results)
     produced = set(coverage.loc[coverage["present"], "id"])
     produced |= {p.stem for p in (results / "figures").glob("fig_*.png")}
     not_shown = sorted(produced - set(shown))

@@ -424,14 +424,16 @@ def figure_ids() -> pd.DataFrame:
     return pd.DataFrame(ids, columns=["id", "thesis", "chapter", "what"]).astype(str)
 
 
-def figure_coverage() -> pd.DataFrame:
+def figure_coverage(root: str | Path | None = None) -> pd.DataFrame:
     """Which ids of :func:`figure_ids` the pipeline has produced (``results/figures/<id>.png`` or
-    ``results/tables/<id>.csv`` exists): the id table plus a boolean column ``present``."""
+    ``results/tables/<id>.csv`` exists): the id table plus a boolean column ``present``.
+    ``root``: another results folder."""
     from . import paths
 
     ids = figure_ids()
     ids["present"] = [
-        (paths.table(i) if i.startswith("table_") else paths.figure(i)).exists() for i in ids["id"]
+        (paths.table(i, root) if i.startswith("table_") else paths.figure(i, root)).exists()
+        for i in ids["id"]
     ]
     return ids
 

@@ -313,7 +313,7 @@ def coverage(root: str | Path | None = None):
     method or panel the thesis shows; :func:`completeness`) - the report page's figure count."""
     from .. import report
 
-    ids = report.figure_coverage()
+    ids = report.figure_coverage(root)
     status, lacking = [], []
     for fid, present in zip(ids["id"], ids["present"], strict=True):
         if fid in FIGURES:
