@@ -25,7 +25,7 @@ from typing import Any
 import jsonschema
 import yaml
 
-from . import paths
+from . import paths, yamlio
 
 DATA_FILES = ("config/schema.yaml",)
 
@@ -46,18 +46,10 @@ class ConfigError(ValueError):
 
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
-    """A YAML mapping, with an error naming the file (not pedalrepro.params.read_yaml: importing
-    params would make the parameter files inputs of rule write_config)."""
-    path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FileNotFoundError(f"configuration file not found: {path}") from None
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"cannot parse YAML file {path}: {exc}") from exc
-    if not isinstance(data, dict):
-        raise ConfigError(f"{path}: expected a mapping at the top level")
-    return data
+    """A YAML mapping, with an error naming the file (:class:`ConfigError` when it cannot be
+    parsed or is not a mapping). Not pedalrepro.params.read_yaml: importing params would make the
+    parameter files inputs of rule write_config."""
+    return yamlio.read_mapping(path, "configuration", ConfigError)
 
 
 def validate(config: dict[str, Any], schema_path: str | Path | None = None) -> dict[str, Any]:

@@ -14,9 +14,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
-from . import paths
+from . import paths, yamlio
 
 #: Files read under a computed name (``_parameter_file(name)``; see pedalrepro.dependencies):
 #: the rules importing this module rerun when one of them changes.
@@ -32,17 +31,7 @@ BICYCLE_OF_MODEL: dict[str, str] = {"HS": "hybrid", "HR": "hybrid", "CF": "city"
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
     """Read a YAML file, with a clear error naming the file when it is missing or malformed."""
-    path = Path(path)
-    try:
-        with path.open() as fh:
-            data = yaml.safe_load(fh)
-    except FileNotFoundError:
-        raise FileNotFoundError(f"parameter file not found: {path}") from None
-    except yaml.YAMLError as exc:
-        raise ValueError(f"cannot parse YAML file {path}: {exc}") from exc
-    if not isinstance(data, dict):
-        raise ValueError(f"{path}: expected a mapping at the top level, got {type(data).__name__}")
-    return data
+    return yamlio.read_mapping(path, "parameter", ValueError)
 
 
 @cache
