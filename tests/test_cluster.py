@@ -49,10 +49,10 @@ CLIENTS = ["sbatch", "squeue", "scontrol", "srun", "munge", "unmunge"]
 PARTITION = "main"  # the profile's default slurm_partition (profiles/slurm/config.yaml)
 
 # The subset of config/quick.yaml: tables whose jobs are the linear sweeps (SLURM) plus one local
-# rule. Expected SLURM jobs: linear_eigen, linear_ps, linear_time_la, 4 x linear_time_ln,
-# linear_rd; local: linear_table_4_1.
+# rule. Expected SLURM jobs: linear_eigen, linear_ps, linear_time_la, linear_time_ln, linear_rd;
+# local: linear_table_4_1.
 TARGET_TABLES = ["eigen_summary", "rd_summary", "table_4_1_model"]
-SLURM_RULES = {"linear_eigen": 1, "linear_ps": 1, "linear_time_la": 1, "linear_time_ln": 4,
+SLURM_RULES = {"linear_eigen": 1, "linear_ps": 1, "linear_time_la": 1, "linear_time_ln": 1,
                "linear_rd": 1}
 LOCAL_RULES = {"linear_table_4_1"}
 
