@@ -210,6 +210,11 @@ def test_api_reference_documents_every_module():
     documented = set(re.findall(r"^\.\. automodule:: (\S+)$", text, re.M))
     assert len(modules) >= 60
     assert modules == documented, (sorted(modules - documented), sorted(documented - modules))
+    # each module's directive: packages show their docstring, modules also their members (once)
+    blocks = re.findall(r"^\.\. automodule:: (\S+)\n((?:   :\S+:.*\n)*)", text, re.M)
+    packages = {m for m in modules if (src / m.replace(".", "/") / "__init__.py").is_file()}
+    options = {m: opts.split() for m, opts in blocks}
+    assert all(options[m] == ([] if m in packages else [":members:"]) for m in modules), options
     config = yaml.safe_load((paths.BOOK / "_config.yml").read_text())["sphinx"]["config"]
     assert {"sphinx.ext.autodoc", "sphinx.ext.napoleon"} <= set(config["extensions"])
     assert '"api"' in json.dumps(yaml.safe_load((paths.BOOK / "_toc.yml").read_text()))
