@@ -176,13 +176,7 @@ def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
             out[f"{system}_{k}_roll_rad"], out[f"{system}_{k}_steer_rad"] = r, s
     real = val.real_example(per_run, series)
     if real is not None:
-        run, system = real
-        out.update(real_run_id=np.int64(run.run_id), real_system=np.str_(system),
-                   real_speed_kmh=np.float64(run.speed_kmh),
-                   real_cadence_rpm=np.float64(run.cadence_rpm), real_t_s=run.t_s,
-                   real_roll_rad=run.roll_rad, real_steer_rad=run.steer_rad,
-                   real_model_roll_rad=run.model_roll_rad,
-                   real_model_steer_rad=run.model_steer_rad)
+        out.update(real)
     return out
 
 

@@ -421,13 +421,14 @@ def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.
             "report": rows}
 
 
-def real_example(per_run: pd.DataFrame, series) -> tuple | None:
-    """The first real public-subset run of the per-run table as a
-    :class:`pedalrepro.figures.validation.ExampleRun` with its model series, and its system;
-    ``None`` when the build has none. ``series``: the extraction's ``series.npz``
-    (keys ``<series_id>_<name>``)."""
-    from .figures.validation import ExampleRun
-
+def real_example(per_run: pd.DataFrame, series) -> dict[str, np.ndarray] | None:
+    """The first real public-subset run of the per-run table with its model series (the REAL
+    panel's data, :func:`pedalrepro.figdata.validation`); ``None`` when the build has none.
+    ``series``: the extraction's ``series.npz`` (keys ``<series_id>_<name>``). Keys:
+    ``real_run_id``, ``real_system``, ``real_speed_kmh``, ``real_cadence_rpm``, ``real_t_s``,
+    ``real_roll_rad``, ``real_steer_rad``, ``real_model_roll_rad``, ``real_model_steer_rad``.
+    Plain arrays, so this module needs nothing from :mod:`pedalrepro.figures` (whose style
+    file would otherwise become an input of every rule that reads a table here)."""
     sub = per_run[per_run.data_source == PUBLIC]
     if sub.empty:
         return None
@@ -435,6 +436,8 @@ def real_example(per_run: pd.DataFrame, series) -> tuple | None:
     key = f"public_{int(row.run_id)}"
     mr, ms = model_series(row.system, row.speed_kmh / 3.6, series[f"{key}_crank_rad"],
                           row.cadence_rpm * np.pi / 30)
-    return ExampleRun(int(row.run_id), float(row.speed_kmh), float(row.cadence_rpm),
-                      series[f"{key}_t_s"], series[f"{key}_roll_rad"],
-                      series[f"{key}_steer_rad"], mr, ms), str(row.system)
+    return dict(real_run_id=np.int64(row.run_id), real_system=np.str_(row.system),
+                real_speed_kmh=np.float64(row.speed_kmh),
+                real_cadence_rpm=np.float64(row.cadence_rpm), real_t_s=series[f"{key}_t_s"],
+                real_roll_rad=series[f"{key}_roll_rad"], real_steer_rad=series[f"{key}_steer_rad"],
+                real_model_roll_rad=mr, real_model_steer_rad=ms)
