@@ -134,11 +134,29 @@ class _Adapter:
 
     @staticmethod
     @cache
+    def forcing_struct() -> type[ctypes.Structure]:
+        """``po_forcing`` of :file:`periodic_driver.c`: the model driver's ``forcing_t``
+        (:class:`pedalrepro.nonlinear.simulate.ForcingStruct`, its fields reached directly
+        through ctypes ``_anonymous_``) followed by the periodic driver's own."""
+        from .nonlinear.simulate import ForcingStruct
+
+        class Forcing(ctypes.Structure):
+            _anonymous_ = ("f",)
+            _fields_ = [("f", ForcingStruct), ("u_rear", ctypes.c_double),
+                        ("omega_q", ctypes.c_double), ("iq", ctypes.c_int * 3),
+                        ("iu", ctypes.c_int * 3), ("idep", ctypes.c_int * 5),
+                        ("fd_step", ctypes.c_double), ("central", ctypes.c_int)]
+
+        return Forcing
+
+    @staticmethod
+    @cache
     def library(model_c: str) -> ctypes.CDLL:
         """Model C + :file:`periodic_driver.c`, compiled once into the model cache folder."""
         from .nonlinear import codegen
+        from .nonlinear.library import FORCING_C
 
-        src = model_c + "\n" + _DRIVER.read_text()
+        src = "\n".join([model_c, FORCING_C.read_text(), _DRIVER.read_text()])
         digest = hashlib.sha256(src.encode()).hexdigest()[:16]
         folder = Path(codegen.cache_dir())
         folder.mkdir(parents=True, exist_ok=True)
@@ -164,19 +182,6 @@ class _Adapter:
                                 ctypes.POINTER(cd)]
         lib.po_flow.restype = ci
         return lib
-
-
-class _Forcing(ctypes.Structure):
-    _fields_ = [("p", ctypes.c_void_p),
-                ("n_harm", ctypes.c_int), ("harm_w", ctypes.c_void_p),
-                ("roll_re", ctypes.c_void_p), ("roll_im", ctypes.c_void_p),
-                ("steer_re", ctypes.c_void_p), ("steer_im", ctypes.c_void_p),
-                ("n_spec", ctypes.c_int), ("n_four", ctypes.c_int), ("omega", ctypes.c_double),
-                ("four_re", ctypes.c_void_p), ("four_im", ctypes.c_void_p),
-                ("slope", ctypes.c_void_p), ("u_rear", ctypes.c_double),
-                ("omega_q", ctypes.c_double), ("iq", ctypes.c_int * 3), ("iu", ctypes.c_int * 3),
-                ("idep", ctypes.c_int * 5), ("fd_step", ctypes.c_double),
-                ("central", ctypes.c_int)]
 
 
 _FLOW_ERRORS = {-1: "non-finite state or singular system", -2: "step size underflow",
@@ -298,7 +303,7 @@ class OrbitSolver:
         self.pitch0_rad = float(self.nl.nominal_pitch_rad)
         self._lib = _Adapter.library(_Adapter.generated_c(self.nl))
         self._keep: list[np.ndarray] = []
-        fc = _Forcing()
+        fc = _Adapter.forcing_struct()()
         fc.p = self._ptr(np.asarray(self.nl.p, float))
         if method == "NT":
             n = np.asarray(self.harmonics.n, float)

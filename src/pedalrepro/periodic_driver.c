@@ -17,11 +17,7 @@
 #include <string.h>
 
 typedef struct {
-    const double *p;
-    int n_harm; const double *harm_w; const double *roll_re; const double *roll_im;
-    const double *steer_re; const double *steer_im;
-    int n_spec; int n_four; double omega; const double *four_re; const double *four_im;
-    const double *slope;
+    forcing_t f;          /* the pedalling forcing and the parameters (forcing.c, prepended) */
     double u_rear;        /* held rear-wheel rate */
     double omega_q;       /* frequency of the Fourier quadratures (the cadence) */
     int iq[3];            /* indices of roll, pitch, steer in q */
@@ -60,7 +56,7 @@ static int po_solve(int n, int nrhs, double *a, double *b) {
 
 /* Dependent speeds from A(q) u = 0 (independent speeds already in u); A returned. */
 static int po_speeds(const po_forcing *fc, const double *q, double *u, double *A) {
-    constraint_matrix(q, fc->p, A);
+    constraint_matrix(q, fc->f.p, A);
     double Ad[25], r[5];
     for (int i = 0; i < 5; i++) {
         r[i] = 0.0;
@@ -70,35 +66,6 @@ static int po_speeds(const po_forcing *fc, const double *q, double *u, double *A
     if (po_solve(5, 1, Ad, r)) return 1;
     for (int j = 0; j < 5; j++) u[fc->idep[j]] = r[j];
     return 0;
-}
-
-static void po_spec(const po_forcing *fc, double t, double *s) {
-    int m = fc->n_spec / 3;
-    if (m <= 0) return;
-    for (int i = 0; i < m; i++) { s[i] = fc->slope[i] * t; s[m + i] = fc->slope[i]; s[2 * m + i] = 0.0; }
-    double c1 = cos(fc->omega * t), s1 = sin(fc->omega * t), c = 1.0, sn = 0.0;
-    for (int n = 0; n < fc->n_four; n++) {
-        double wn = n * fc->omega;
-        if (n > 0) { double cn = c * c1 - sn * s1; sn = sn * c1 + c * s1; c = cn; }
-        for (int i = 0; i < m; i++) {
-            double re = fc->four_re[i * fc->n_four + n], im = fc->four_im[i * fc->n_four + n];
-            double val = re * c - im * sn;
-            s[i] += val;
-            s[m + i] += -wn * (re * sn + im * c);
-            s[2 * m + i] += -wn * wn * val;
-        }
-    }
-}
-
-/* Forcing at time t: prescribed motion s and the roll and steer torques. */
-static void po_force(const po_forcing *fc, double t, double *s, double *tr, double *ts) {
-    po_spec(fc, t, s);
-    *tr = 0.0; *ts = 0.0;
-    for (int k = 0; k < fc->n_harm; k++) {
-        double c = cos(fc->harm_w[k] * t), sn = sin(fc->harm_w[k] * t);
-        *tr += fc->roll_re[k] * c - fc->roll_im[k] * sn;
-        *ts += fc->steer_re[k] * c - fc->steer_im[k] * sn;
-    }
 }
 
 /* Reduced right-hand side with the held rear-wheel rate, forcing given; tau: the holding
@@ -111,7 +78,7 @@ static int po_rhs_f(const po_forcing *fc, const double *s, double tr, double ts,
     q[ir] = y[0]; q[ip] = y[1]; q[is] = y[2];
     u[ur] = y[3]; u[uw] = fc->u_rear; u[us] = y[4];
     if (po_speeds(fc, q, u, A)) return 1;
-    dynamics(q, u, fc->p, s, M, F, b);
+    dynamics(q, u, fc->f.p, s, M, F, b);
     F[ur] += tr; F[us] += ts;
     double K[169], r[26];
     memset(K, 0, sizeof K);
@@ -134,7 +101,7 @@ static int po_rhs_f(const po_forcing *fc, const double *s, double tr, double ts,
 /* Reduced right-hand side at time t (exported for tests and the symmetry check). */
 int po_rhs(const po_forcing *fc, double t, const double *y, double *dy, double *tau) {
     double s[64 * 3], tr, ts;
-    po_force(fc, t, s, &tr, &ts);
+    pedal_forcing(&fc->f, t, s, &tr, &ts);
     return po_rhs_f(fc, s, tr, ts, y, dy, tau);
 }
 
@@ -173,7 +140,7 @@ int po_pitch(const po_forcing *fc, double roll, double steer, double pitch0, int
 /* Augmented right-hand side: state (5), nvar variational columns (5 each), quadratures (5). */
 static int po_aug(const po_forcing *fc, double t, const double *Y, int nvar, double *dY) {
     double tau, yp[5], ym[5], fp[5], fm[5], s[64 * 3], tr, ts;
-    po_force(fc, t, s, &tr, &ts);
+    pedal_forcing(&fc->f, t, s, &tr, &ts);
     if (po_rhs_f(fc, s, tr, ts, Y, dY, &tau)) return 1;
     double ny = 0.0;
     for (int i = 0; i < 5; i++) ny += Y[i] * Y[i];

@@ -19,12 +19,14 @@ from . import model as symbolic
 
 #: The hand-written part of the model's C code.
 RHS_DRIVER_C = Path(__file__).with_name("rhs_driver.c")
+#: The pedalling forcing (torques and prescribed legs), shared with the periodic-orbit driver.
+FORCING_C = Path(__file__).with_name("forcing.c")
 
 
 def library_source(options: symbolic.ModelOptions) -> str:
-    """Full C source of the model's library (generated + driver + integrator)."""
-    return "\n".join([codegen.generated_c(options).read_text(), RHS_DRIVER_C.read_text(),
-                      build.DOPRI_C.read_text()])
+    """Full C source of the model's library (generated + forcing + driver + integrator)."""
+    return "\n".join([codegen.generated_c(options).read_text(), FORCING_C.read_text(),
+                      RHS_DRIVER_C.read_text(), build.DOPRI_C.read_text()])
 
 
 def compiled_library(options: symbolic.ModelOptions) -> Path | None:

@@ -20,8 +20,9 @@ from ..integrator import CompiledRhs, Simulation, harmonic_torque, integrate
 from .numeric import NonlinearModel
 
 
-class _Forcing(ctypes.Structure):
-    """``forcing_t`` of ``rhs_driver.c``."""
+class ForcingStruct(ctypes.Structure):
+    """``forcing_t`` of ``forcing.c`` (the pedalling forcing shared by the model's driver and
+    the periodic-orbit driver, :mod:`pedalrepro.periodic`)."""
 
     _fields_ = [("n_harm", ctypes.c_int), ("harm_w", ctypes.c_void_p),
                 ("roll_re", ctypes.c_void_p), ("roll_im", ctypes.c_void_p),
@@ -93,7 +94,7 @@ class ForcedModel:
             keep.append(a)
             return a.ctypes.data
 
-        fc = _Forcing()
+        fc = ForcingStruct()
         if self.harmonics is not None and self.omega_rad_s > 0:
             n = np.asarray(self.harmonics.n, dtype=float)
             w = n * self.omega_rad_s

@@ -1,0 +1,43 @@
+/* The pedalling forcing of the non-linear models, shared by the model's integration driver
+   (rhs_driver.c) and the periodic-orbit driver (pedalrepro/periodic_driver.c); prepended to
+   both sources by pedalrepro.nonlinear.library and pedalrepro.periodic. Python mirror:
+   pedalrepro.nonlinear.simulate.ForcingStruct.
+
+   Harmonic roll and steer torques (Eq 3.14: coefficients times w^2, sum of Re(c e^{i w t})) and
+   prescribed leg motion given as Fourier series plus a linear drift (n_spec / 3 signals: value,
+   rate and acceleration in s). */
+
+#include <math.h>
+
+typedef struct {
+    int n_harm; const double *harm_w; const double *roll_re; const double *roll_im;
+    const double *steer_re; const double *steer_im;          /* torque coefficients * w^2 */
+    int n_spec; int n_four; double omega; const double *four_re; const double *four_im;
+    const double *slope;                                       /* spec: n_spec/3 signals */
+    const double *p;                                           /* the model's parameters */
+} forcing_t;
+
+/* Forcing at time t: prescribed motion s (when n_spec > 0) and the roll and steer torques. */
+static void pedal_forcing(const forcing_t *fc, double t, double *s, double *tr, double *ts) {
+    *tr = 0.0; *ts = 0.0;
+    for (int k = 0; k < fc->n_harm; k++) {
+        double c = cos(fc->harm_w[k] * t), sn = sin(fc->harm_w[k] * t);
+        *tr += fc->roll_re[k] * c - fc->roll_im[k] * sn;
+        *ts += fc->steer_re[k] * c - fc->steer_im[k] * sn;
+    }
+    int m = fc->n_spec / 3;
+    if (m <= 0) return;
+    for (int i = 0; i < m; i++) { s[i] = fc->slope[i] * t; s[m + i] = fc->slope[i]; s[2 * m + i] = 0.0; }
+    double c1 = cos(fc->omega * t), s1 = sin(fc->omega * t), c = 1.0, sn = 0.0;
+    for (int n = 0; n < fc->n_four; n++) {
+        double wn = n * fc->omega;
+        if (n > 0) { double cn = c * c1 - sn * s1; sn = sn * c1 + c * s1; c = cn; }
+        for (int i = 0; i < m; i++) {
+            double re = fc->four_re[i * fc->n_four + n], im = fc->four_im[i * fc->n_four + n];
+            double val = re * c - im * sn;              /* Re(coef e^{i wn t}) */
+            s[i] += val;
+            s[m + i] += -wn * (re * sn + im * c);       /* Re(i wn coef e^{...}) */
+            s[2 * m + i] += -wn * wn * val;
+        }
+    }
+}
