@@ -3,8 +3,7 @@
 # Meijaard 2007, the four models' bodies vs Appendix B, Fig E.1), the NT/NP time-solution sweeps
 # split by method, model and speed chunk, the RD maps of evaluation points 1a, 1b, 2a and
 # PS vs NP (rule nonlinear_rd), their report rows (nonlinear_report, which only reads), and
-# fig_3_34. CF has its own arm loops (pedalrepro.nonlinear.arms); HS is a
-# substitute (pedalrepro.nonlinear.substitute).
+# fig_3_34. CF and HS have their own arm loops (pedalrepro.nonlinear.arms, arm_design).
 
 NONLINEAR_MODELS = list(config["nonlinear"]["models"])
 NONLINEAR_CHUNKS = int(config["nonlinear"]["chunks"])

@@ -9,7 +9,7 @@ Measures (thesis profile: 180 s at 100 Hz, config/config.yaml tolerances):
    tolerances;
 2. the full NT + NP sweep (4 models x 676 points x 2 methods) with 2 workers, extrapolated from
    runs on a sub-grid (every ``stride``-th speed and cadence) of the thesis grid for the models
-   of config ``nonlinear.models`` (HS is a substitute of the size of HR; CF carries arm loops).
+   of config ``nonlinear.models`` (CF and HS carry arm loops).
    The measured full sweep is Snakemake's own benchmark files (results/benchmarks/nonlinear_*).
 Nothing is written; the numbers are printed.
 """

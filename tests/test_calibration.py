@@ -16,11 +16,10 @@ import pytest
 from pedalrepro import params
 from pedalrepro.nonlinear import assembly, bodies, calibration_report, models, settings
 from pedalrepro.nonlinear import calibration as cal
-from pedalrepro.nonlinear.numeric import benchmark_matrices
 from pedalrepro.nonlinear.rigid import body_part
 from pedalrepro.nonlinear.simulate import simulate
 
-CALIBRATED = ("HR", "CR", "CF")
+CALIBRATED = ("HS", "CF", "HR", "CR")
 
 
 @pytest.mark.parametrize("name", ["HS", "CF", "HR", "CR"])
@@ -195,38 +194,59 @@ def test_energy_is_conserved_by_the_calibrated_models(name):
     assert np.ptp(sim.states[2]) > 1e-3  # the steer (and CF's arms) moved
 
 
-def test_substitute_uses_the_calibrated_hr_body():
-    """HS (substitute) = the calibrated HR body + the correction: its linearisation is
-    Appendix B HS, and its body is HR's."""
-    assert bodies.legs_fixed("HS") == bodies.legs_fixed("HR")
-    mats = benchmark_matrices(models.nt_model("HS"))
-    assert cal.max_relative_difference(mats, params.appendix_b_model("HS")) < 1e-9
-
-
-def test_particle_formula_gives_the_models_steer_stiffness_term():
+@pytest.mark.parametrize("name", ["CF", "HS"])
+def test_particle_formula_gives_the_models_steer_stiffness_term(name):
     """dK0[1,1] = sum m (-z'' + sin(lam) y') over the moving arm particles (steer derivatives,
-    rear frame upright) equals the non-linear model's K0[1,1] - K0[0,1] sin(lam) for CF's
+    rear frame upright) equals the non-linear model's K0[1,1] - K0[0,1] sin(lam) for the
     calibrated arms (central differences, h = 1e-4: 1e-6)."""
-    from pedalrepro.nonlinear import arm_design, arms
-
-    c = cal.calibrate("CF")
-    asm = assembly.assembly("CF", False, 0.0, c.arm_design)
-    bench = assembly.assemble(asm)
-    term = arm_design.particle_steer_term(lambda d: arms.moving_particles(asm.loop, d, bench),
-                                          bench["lam"])
-    assert term == pytest.approx(cal.arm_term("CF", c.arm_design), abs=1e-6)
+    c = cal.calibrate(name)
+    term = cal.particle_arm_term(name, c.arm_design, c.rider_shift_m)
+    assert term == pytest.approx(cal.arm_term(name, c.arm_design, c.rider_shift_m), abs=1e-6)
 
 
-def test_straight_arm_layouts_miss_the_hs_term():
-    """Why HS stays a substitute: on Yeadon's straight Stratos arms, hinged elbows are
-    singular (|dK0| > 100 against Appendix B's -0.193) and the two sliding layouts (hand on the
-    bar, shoulder girdle) give the wrong value and need changes of more than 1.5 range
-    half-widths."""
-    ab = params.appendix_b_model("HS")
-    target = cal.steer_stiffness_term({"K0": ab.K0}, assembly.thesis_bicycle("Stratos")["lam"])
+def test_hs_arms_are_nearly_straight_and_calibrated_within_plausible_ranges():
+    """HS (Fig 3.3a): Yeadon's straight arm (elbow flexion 0.4 deg) locks the steering, its
+    dK0[1,1] is singular (|dK0| > 100 against Appendix B's -0.19289); the calibrated arms give
+    Appendix B's term to 1e-12 with every parameter inside its plausible range (at most one
+    half-width), the hands on the bar wider than the shoulders, and reach the grips up to the
+    required 0.25 rad of steer (to the solver's 1e-6) with an elbow flexion below 45 deg."""
+    c = cal.calibrate("HS")
+    lam = assembly.thesis_bicycle("Stratos")["lam"]
+    target = cal.steer_stiffness_term({"K0": params.appendix_b_model("HS").K0}, lam)
     assert target == pytest.approx(-0.19289, abs=1e-5)
-    rows = dict((k, v) for _, k, v in calibration_report.straight_arm_checks("HS"))
-    assert abs(rows["straight_arms_hinged_elbow_term"]) > 100
-    for kind in ("hand_slides", "shoulder_slides"):
-        assert abs(rows[f"straight_arms_{kind}_term"] - target) > 0.1
-        assert rows[f"straight_arms_{kind}_change"] > 1.5
+    assert abs(cal.arm_term("HS", c.arm_nominal)) > 100
+    assert cal.arm_term("HS", c.arm_design, c.rider_shift_m) == pytest.approx(target, abs=1e-12)
+    ranges = settings.thesis_inputs()["calibration"]["arm_ranges"]
+    change = (c.arm_design.vector() - c.arm_nominal.vector()) / cal.arm_half_widths(
+        c.arm_nominal, ranges)
+    assert np.max(np.abs(change)) <= 1.0
+    loop = bodies.arm_loop("HS")
+    assert loop.grip[1] > loop.shoulder[1] + 0.05
+    reach = settings.thesis_inputs()["calibration"]["arm_min_steer_reach_rad"]["HS"]
+    bench = bodies.model_bodies("HS")[0]
+    from pedalrepro.nonlinear import arms
+
+    assert arms.steer_reach_rad(loop, bench) >= reach - 1e-6
+    e = loop.elbow()
+    flexion = np.degrees(np.arccos((e - loop.shoulder) @ (loop.grip - e) / loop.a / loop.b))
+    assert 5.0 < flexion < 45.0
+
+
+def test_elbow_direction_round_trip():
+    """plane_normal and elbow_direction_rad are inverse: the loop built for an elbow direction
+    puts the elbow in that direction about the shoulder-grip line (1e-12), on both sides of
+    straight out, and the sagittal CF loop's elbow points down-backwards (direction 0)."""
+    from dataclasses import replace
+
+    from pedalrepro.nonlinear import arm_design
+
+    nominal = cal.calibrate("HS").arm_nominal
+    for direction in (0.3, 1.2, 1.9, -0.7):
+        design = replace(nominal, a=nominal.a * 1.05, b=nominal.b * 1.05,
+                         elbow_dir_rad=direction)
+        loop = arm_design.loop(design, "Stratos", np.zeros(3))
+        got = arm_design.elbow_direction_rad(loop.shoulder, loop.grip, loop.elbow())
+        assert got == pytest.approx(direction, abs=1e-12)
+    cf = bodies.arm_loop("CF")
+    assert arm_design.elbow_direction_rad(cf.shoulder, cf.grip, cf.elbow()) == pytest.approx(
+        0.0, abs=1e-12)

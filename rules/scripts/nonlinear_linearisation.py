@@ -1,13 +1,10 @@
 """Snakemake script: linearise the non-linear models (Sec 3.1.1.3 verification step).
 
 benchmark_linearisation.csv: M, C1, K0, K2 of the non-linear benchmark model (16 rows).
-linearisation_vs_appendix_b.csv: the project's linearisations beside thesis Appendix B. For HR,
-CR and CF (built with its arm loops) the model's own; for the substitute HS the rigid-rider body
-it is built on, before the correction (``compared`` column), which is what the project's own
-bodies give.
+linearisation_vs_appendix_b.csv: the project's linearisations beside thesis Appendix B: every
+model's own (HS and CF built with their arm loops).
 nonlinear_checks.csv: the linearisation and energy checks as numbers for the book, including the
-substitute's corrected linearisation against Appendix B (equal by construction: a code check)
-and the energy drift of an unforced CF run with its arm loops.
+energy drift of unforced CF and HS runs with their arm loops and the arms' flexion and reach.
 linearisation_own.npz: the matrices of every non-linear model as simulated (for PS/LA of its
 own linear limit in the report).
 eigen_cf_own.npz, eigen_cf_original_seat.npz: Fig E.1, the project's own CF with the 0.72 m and
@@ -21,7 +18,7 @@ import pandas as pd
 import yaml
 
 from pedalrepro import linear, params, response
-from pedalrepro.nonlinear import arms, bodies, calibration, models, substitute
+from pedalrepro.nonlinear import arms, bodies, calibration, models
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.simulate import simulate
 
@@ -48,19 +45,11 @@ def rel_diffs(mats, ab):
         yield k, i, j, value, ref, abs(value - ref) / abs(ref) if abs(ref) > 1e-12 else np.nan
 
 
-records, own, substitute_checks = [], {"benchmark": bench}, []
+records, own = [], {"benchmark": bench}
 for name in snakemake.params.models:
     ab = params.appendix_b_model(name)
     own[name] = benchmark_matrices(models.nt_model(name))  # what NT / NP simulate
-    body = substitute.body_linearisation(name)
-    compared = ("rigid-rider body of the substitute, before the correction"
-                if substitute.is_substitute(name) else "own model")
-    records += [(name, compared, *r) for r in rel_diffs(body, ab)]
-    if substitute.is_substitute(name):
-        substitute_checks.append((
-            f"substitute_max_rel_diff_{name}",
-            float(np.nanmax([r[5] for r in rel_diffs(own[name], ab)])),
-            "corrected substitute vs Appendix B, 16 entries (equal by construction)"))
+    records += [(name, "own model", *r) for r in rel_diffs(own[name], ab)]
 pd.DataFrame(records, columns=["model", "compared", "matrix", "i", "j", "project", "appendix_b",
                                "rel_diff"]).to_csv(snakemake.output.appendix_b, index=False)
 # Fig E.1: the project's CF with the 0.72 m and the original 0.77 m seat post, eigenvalues on
@@ -88,11 +77,30 @@ nl = NonlinearModel(params.benchmark_parameters("benchmark"))
 x0 = nl.upright_state(5.0, roll_rate_rad_s=0.5)
 sim = simulate(nl, 5.0, 15.0, 20.0, x0=x0, rtol=1e-10, atol=1e-10, method="DOP853")
 drift, energy = nl.energy_drift(sim.t_s, sim.states)
-# the same with CF's arm loops moving with the steer (legs fixed), 10 s
+# the same with the arm loops moving with the steer (legs fixed), 10 s: CF, and HS if built
+arm_rows = []
+for name in ["CF"] + [m for m in snakemake.params.models if m == "HS"]:
+    nl = models.nt_model(name)
+    sim = simulate(nl, 10.0, 10.0, 20.0, x0=nl.upright_state(10.0, steer_rate_rad_s=0.02),
+                   rtol=1e-10, atol=1e-10, method="DOP853")
+    arm_rows.append((f"energy_relative_drift_{name}_arms", nl.energy_drift(sim.t_s, sim.states)[0],
+                     f"unforced {name} with arm loops (legs fixed), 10 m/s, steer rate 0.02 rad/s, "
+                     "10 s"))
+    if name == "HS":  # CF's rows follow (both seats)
+        design = calibration.calibrate(name).arm_design
+        loop = bodies.arm_loop(name)
+        elbow = loop.elbow()
+        flex = np.arccos((elbow - loop.shoulder) @ (loop.grip - elbow) / loop.a / loop.b)
+        arm_rows += [
+            ("arm_elbow_flexion_deg_HS", float(np.degrees(flex)),
+             "HS's calibrated arms: elbow flexion at steer 0"),
+            ("arm_elbow_direction_deg_HS", float(np.degrees(design.elbow_dir_rad)),
+             "direction of HS's elbows about the shoulder-grip line (0 down, 90 out)"),
+            ("arm_steer_reach_rad_HS", arms.steer_reach_rad(loop, bodies.model_bodies(name)[0]),
+             "|steer| up to which HS's arms reach the grips"),
+            ("arm_steer_limit_rad_HS", float(nl.steer_limit_rad),
+             "runs of HS end like a fall at this |steer|")]
 cf = models.nt_model("CF")
-sim = simulate(cf, 10.0, 10.0, 20.0, x0=cf.upright_state(10.0, steer_rate_rad_s=0.02),
-               rtol=1e-10, atol=1e-10, method="DOP853")
-drift_cf, _ = cf.energy_drift(sim.t_s, sim.states)
 design = calibration.calibrate("CF").arm_design
 flexion = {seat: calibration.elbow_flexion_rad(design, "CF", seat) for seat in (False, True)}
 reach = {seat: arms.steer_reach_rad(bodies.arm_loop("CF", seat),
@@ -103,8 +111,6 @@ pd.DataFrame([
         abs(v - meijaard[k][i][j]) for k, i, j, v in rows(bench)), "Meijaard 2007, 16 entries"),
     ("energy_relative_drift", drift, "unforced benchmark, 5 m/s, roll rate 0.5 rad/s, 15 s"),
     ("energy_J", float(energy[0]), "total mechanical energy of that run"),
-    ("energy_relative_drift_CF_arms", drift_cf,
-     "unforced CF with arm loops (legs fixed), 10 m/s, steer rate 0.02 rad/s, 10 s"),
     ("arm_elbow_flexion_deg", float(np.degrees(flexion[False])),
      "CF's calibrated arms: elbow flexion at steer 0, 0.72 m seat"),
     ("arm_elbow_flexion_original_seat_deg", float(np.degrees(flexion[True])),
@@ -113,9 +119,10 @@ pd.DataFrame([
     ("arm_steer_reach_original_seat_rad", reach[True], "the same at the original 0.77 m seat"),
     ("arm_steer_limit_rad", float(cf.steer_limit_rad),
      "runs of CF end like a fall at this |steer| (arms.STEER_REACH_FRACTION of the reach)"),
-] + [(f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[7] for r in records if r[0] == m])),
-      "largest relative difference of the 16 entries (exact zeros excluded)")
-     for m in snakemake.params.models] + substitute_checks,
+] + arm_rows + [
+    (f"appendix_b_max_rel_diff_{m}", float(np.nanmax([r[7] for r in records if r[0] == m])),
+     "largest relative difference of the 16 entries (exact zeros excluded)")
+     for m in snakemake.params.models],
     columns=["check", "value", "what"]).to_csv(
     snakemake.output.checks, index=False)
 np.savez(snakemake.output.own, **{f"{m}_{k}": v[k] for m, v in own.items() for k in NAMES})

@@ -88,7 +88,7 @@ class _Adapter:
 
     @staticmethod
     def models() -> tuple[str, ...]:
-        """The four models of the thesis; each has a non-linear counterpart (HS a substitute)."""
+        """The four models of the thesis; each has a non-linear counterpart."""
         from .params import MODELS
 
         return tuple(MODELS)

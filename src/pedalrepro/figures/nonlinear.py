@@ -64,9 +64,8 @@ def fig_3_34(maps: Mapping[str, np.ndarray],
 def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     """Relative difference of the project's linearisations from thesis Appendix B.
 
-    ``table``: ``linearisation_vs_appendix_b.csv``. HR, CR, CF (arm loops): the models' own
-    linearisation; HS: the rigid-rider body of the substitute before its correction
-    (``compared`` column).
+    ``table``: ``linearisation_vs_appendix_b.csv``: the models' own linearisations (HS and CF
+    with their arm loops).
     """
     fig, ax = plt.subplots(figsize=(7, 3.4), layout="constrained")
     labels = [f"{r.matrix}[{r.i}{r.j}]" for r in table.itertuples()]

@@ -8,8 +8,8 @@ Modules, leaves first (``tests/test_imports.py`` keeps the imports acyclic):
 * :mod:`.rigid` -- rigid-body mass algebra (:class:`.rigid.RigidPart`); :mod:`.settings` --
   ``nonlinear_models.yaml``; :mod:`.bicycle_data` -- the one cached BicycleParameters/Yeadon
   load; :mod:`.prescribed` -- prescribed motion as Fourier series.
-* :mod:`.arms` -- the arm loops of CF; :mod:`.leg_bodies` -- legs and cranks as bodies over a
-  revolution; :mod:`.bodies` -- the benchmark parameters of each thesis model;
-  :mod:`.substitute` -- the linear-correction substitute HS; :mod:`.models` -- the NT and NP
-  models ready to integrate; :mod:`.sweep` -- NT/NP time solutions on the speed x cadence grid.
+* :mod:`.arms` -- the arm loops of CF and HS (:mod:`.arm_design`: their parameters);
+  :mod:`.leg_bodies` -- legs and cranks as bodies over a revolution; :mod:`.bodies` -- the
+  benchmark parameters of each thesis model; :mod:`.models` -- the NT and NP models ready to
+  integrate; :mod:`.sweep` -- NT/NP time solutions on the speed x cadence grid.
 """

@@ -232,6 +232,24 @@ def steer_reach_rad(loop: ArmLoop, bench: dict) -> float:
     return lo
 
 
+def closure_margin_m2(loop: ArmLoop, steer_rad: float, bench: dict) -> float:
+    """How far both arms are from losing their grips at steer ``+-steer_rad`` (m^2): the least
+    of ``a^2 - t^2`` (squared distance of the elbow from the shoulder-grip chord, ``t`` the
+    elbow's position along it, :func:`model.arm_loop_elbow`) and ``b^2 - dy^2`` over both arms
+    and both signs; negative when a loop is open. A smooth stand-in for
+    :func:`steer_reach_rad` ``>= steer_rad`` (the loop closes at every smaller steer angle)."""
+    out = np.inf
+    for arm in (loop, loop.mirrored()):
+        for sgn in (1.0, -1.0):
+            r = grip_at_steer(arm.grip, sgn * steer_rad, bench) - arm.shoulder
+            dy = float(arm.normal @ r)
+            rp = r - dy * arm.normal
+            d = float(np.linalg.norm(rp))
+            along = (arm.a**2 - (arm.b**2 - dy**2) + d**2) / (2 * d)
+            out = min(out, arm.a**2 - along**2, arm.b**2 - dy**2)
+    return float(out)
+
+
 def fixed_parts(loop: ArmLoop) -> tuple[list[RigidPart], list[RigidPart]]:
     """Point masses of both arms fixed in the rear frame (at S) and the front frame (at H)."""
     rear, front = [], []

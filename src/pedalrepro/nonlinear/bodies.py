@@ -1,10 +1,10 @@
-"""Benchmark parameters of the non-linear models: benchmark, HR (hybrid), CR and CF (city).
+"""Benchmark parameters of the non-linear models: benchmark, HS, HR (hybrid), CR and CF (city).
 
 The thesis's inputs assembled by :mod:`.assembly` (geometry and wheels read off Appendix B, the
-72 kg rider, cranks and legs frozen at crank angle 0, CF's arm loops) with the bicycle frames
-calibrated to Appendix B (:mod:`.calibration`); the split of the legs into separate bodies
-(method NP, :mod:`.leg_bodies`) with the mass algebra of :mod:`.rigid`. Every assumption is
-listed in ``data/parameters/nonlinear_models.yaml`` and ``thesis_inputs.yaml``.
+72 kg rider, cranks and legs frozen at crank angle 0, the arm loops of CF and HS) with the
+bicycle frames calibrated to Appendix B (:mod:`.calibration`); the split of the legs into
+separate bodies (method NP, :mod:`.leg_bodies`) with the mass algebra of :mod:`.rigid`. Every
+assumption is listed in ``data/parameters/nonlinear_models.yaml`` and ``thesis_inputs.yaml``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from .leg_bodies import leg_revolution
 from .numeric import moore_parameters
 from .prescribed import FourierSpec
 from .rigid import body_part, subtract, with_body
-from .settings import has_arms, model_spec
+from .settings import has_arms
 
 __all__ = ["REVOLUTION_SAMPLES", "leg_geometry", "rider_drop_m"]
 
@@ -39,9 +39,8 @@ def bottom_bracket_m(model: str) -> np.ndarray:
 
 
 def calibration_of(model: str) -> calibration.Calibration:
-    """The calibration a model uses; a substitute (HS) that of its body (HR)."""
-    body = model_spec(model).get("substitute", {}).get("body_of", model)
-    return calibration.calibrate(body)
+    """The calibration a model uses (:func:`.calibration.calibrate`)."""
+    return calibration.calibrate(model)
 
 
 def model_assembly(model: str, original_seat: bool = False,

@@ -80,9 +80,21 @@ def scales(v0: np.ndarray) -> np.ndarray:
     return s
 
 
-def validity(v: np.ndarray, i_yy: float, box: dict, min_mass: float) -> np.ndarray:
-    """Inequalities (>= 0) of a physically valid frame: mass, inertia, COM on the bicycle."""
+def nearest_valid_iyy(v: np.ndarray, i_yy: float) -> float:
+    """The pitch moment nearest ``i_yy`` that satisfies the triangle inequalities with the
+    frame's principal moments in its plane of symmetry (``|p1 - p2| <= Iyy <= p1 + p2``)."""
+    ixx, izz, ixz = v[3], v[4], v[5]
+    spread = float(np.sqrt((ixx - izz) ** 2 + 4 * ixz**2))
+    return float(np.clip(i_yy, spread, ixx + izz))
+
+
+def validity(v: np.ndarray, i_yy: float, box: dict, min_mass: float,
+             free_iyy: bool = False) -> np.ndarray:
+    """Inequalities (>= 0) of a physically valid frame: mass, inertia, COM on the bicycle.
+    ``free_iyy``: Iyy is :func:`nearest_valid_iyy` (the triangle inequalities then hold)."""
     m, x, z, ixx, izz, ixz = v
+    if free_iyy:
+        i_yy = nearest_valid_iyy(v, i_yy)
     return np.array([
         m - min_mass,
         ixx, izz, ixx * izz - ixz**2,            # positive definite (with Iyy > 0)
@@ -120,6 +132,10 @@ class Calibration:
             before, after = frame_vector(self.nominal[body]), frame_vector(self.frames[body])
             for key, b, a in zip(FRAME_KEYS, before, after, strict=True):
                 out.append((self.model, label, key, float(b), float(a)))
+            i_before, i_after = (float(p[body].inertia[1, 1]) for p in (self.nominal,
+                                                                          self.frames))
+            if i_after != i_before:  # free_pitch_inertia (thesis_inputs.yaml)
+                out.append((self.model, label, "Iyy", i_before, i_after))
         return out
 
 
@@ -164,14 +180,17 @@ class Solution:
 
 
 def solve(asm, target: params.LinearModel, settings: dict,
-          extra: dict[str, np.ndarray] | None = None, starts: int = 12) -> Solution:
+          extra: dict[str, np.ndarray] | None = None, starts: int = 12,
+          free_iyy: bool = False) -> Solution:
     """Frames nearest the assembly's measured frames whose linearisation is ``target``.
 
     The seven free entries are affine in the frames' mass moments (:func:`moments`), so their
     solution set is an affine subspace ``mu = mu_p + N z`` (``N``: null space, 5 columns); the
     metric (module docstring) is minimised over ``z`` under the validity inequalities (SLSQP from
     ``starts`` starting points, the best valid one kept). ``extra``: a constant contribution
-    added to the closed-form matrices (moving arm particles).
+    added to the closed-form matrices (moving arm particles). ``free_iyy``: the frames' pitch
+    moments IByy, IHyy (absent from the linearisation) take the value nearest the measured one
+    that keeps the inertia physically valid (:func:`nearest_valid_iyy`).
     """
     from scipy.linalg import null_space
     from scipy.optimize import minimize
@@ -185,9 +204,12 @@ def solve(asm, target: params.LinearModel, settings: dict,
     box = settings["com_box"]
     min_mass = float(settings["min_mass_kg"])
 
+    def frame_of(mu6, body):
+        v = from_moments(mu6)
+        return frame_part(v, nearest_valid_iyy(v, iyy[body]) if free_iyy else iyy[body])
+
     def frames_of_mu(mu):
-        return {"B": frame_part(from_moments(mu[:6]), iyy["B"]),
-                "H": frame_part(from_moments(mu[6:]), iyy["H"])}
+        return {"B": frame_of(mu[:6], "B"), "H": frame_of(mu[6:], "H")}
 
     def mats(mu):
         m = whipple_matrices(asmb.assemble(asm, frames_of_mu(mu)))
@@ -220,8 +242,8 @@ def solve(asm, target: params.LinearModel, settings: dict,
         if mu[0] <= 0 or mu[6] <= 0:
             return np.full(20, -1.0)
         return np.concatenate([
-            validity(from_moments(mu[:6]), iyy["B"], box["rear"], min_mass),
-            validity(from_moments(mu[6:]), iyy["H"], box["front"], min_mass)])
+            validity(from_moments(mu[:6]), iyy["B"], box["rear"], min_mass, free_iyy),
+            validity(from_moments(mu[6:]), iyy["H"], box["front"], min_mass, free_iyy)])
 
     z_back = np.linalg.lstsq(n, mu0 - mu_p, rcond=None)[0]  # nearest to the measured frames
     rng = np.random.default_rng(0)
@@ -253,13 +275,14 @@ def steer_stiffness_term(mats: dict, lam_rad: float) -> float:
     return float(mats["K0"][1, 1] - mats["K0"][0, 1] * np.sin(lam_rad))
 
 
-def arm_term(model: str, design) -> float:
+def arm_term(model: str, design, rider_shift_m: float = 0.0) -> float:
     """dK0[1,1] of ``model`` built with the arm design ``design`` (numerical linearisation;
-    independent of the frames, which satisfy the Whipple identity)."""
+    independent of the frames, which satisfy the Whipple identity), the rider moved
+    ``rider_shift_m`` down the seat tube."""
     from . import arms as _arms
     from .numeric import NonlinearModel, moore_parameters
 
-    asm = asmb.assembly(model, False, 0.0, design)
+    asm = asmb.assembly(model, False, float(rider_shift_m), design)
     bench = asmb.assemble(asm)
     values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
     nl = NonlinearModel(bench, model_options(model), arm_parameters=values)
@@ -287,10 +310,8 @@ def static_stiffness(nl) -> np.ndarray:
 
 def arm_half_widths(design, ranges: dict) -> np.ndarray:
     """Half-widths of the plausible ranges of the design's parameters (thesis_inputs.yaml)."""
-    from .arm_design import DESIGN_KEYS
-
     out = []
-    for key, value in zip(DESIGN_KEYS, design.vector(), strict=True):
+    for key, value in zip(design.keys(), design.vector(), strict=True):
         if key not in ranges:
             raise KeyError(f"data/parameters/thesis_inputs.yaml: calibration.arm_ranges.{key} "
                            "missing")
@@ -314,18 +335,73 @@ def elbow_flexion_rad(design, model: str, original_seat: bool) -> float:
     when the arm cannot reach the grip."""
     drop = asmb.rider_drop_m(model, original_seat)
     s = np.array([design.shoulder_x, design.shoulder_y, design.shoulder_z]) + drop
-    h = np.array([design.grip_x, design.shoulder_y, design.grip_z])
-    d = float(np.linalg.norm(h - s))
+    d = float(np.linalg.norm(design.grip() - s))
     cos_in = (design.a**2 + design.b**2 - d**2) / (2 * design.a * design.b)
     return float(np.pi - np.arccos(cos_in)) if abs(cos_in) <= 1 else float("nan")
 
 
+def particle_arm_term(model: str, design, rider_shift_m: float = 0.0) -> float:
+    """dK0[1,1] of the design's moving arm particles alone
+    (:func:`pedalrepro.nonlinear.arm_design.particle_steer_term`, central differences: within
+    ~1e-9 of :func:`arm_term` at a 400th of its cost): the search's term; :func:`arm_term`
+    polishes the result."""
+    from . import arms as _arms
+    from .arm_design import loop, particle_steer_term
+
+    bicycle = model_spec(model)["bicycle"]
+    bench = asmb.thesis_bicycle(bicycle)
+    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
+    arm = loop(design, bicycle, drop)
+    return particle_steer_term(lambda d: _arms.moving_particles(arm, d, bench), bench["lam"])
+
+
+def _arm_loop(model: str, design, rider_shift_m: float):
+    from .arm_design import loop
+
+    bicycle = model_spec(model)["bicycle"]
+    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
+    return loop(design, bicycle, drop)
+
+
+def arm_closure_margin_m2(model: str, design, steer_rad: float,
+                          rider_shift_m: float = 0.0) -> float:
+    """:func:`pedalrepro.nonlinear.arms.closure_margin_m2` of the design's loops (-1 when they
+    do not close at zero steer)."""
+    from . import arms as _arms
+
+    try:
+        arm = _arm_loop(model, design, rider_shift_m)
+    except ValueError:
+        return -1.0
+    return _arms.closure_margin_m2(arm, steer_rad,
+                                   asmb.thesis_bicycle(model_spec(model)["bicycle"]))
+
+
+def arm_steer_reach_rad(model: str, design, rider_shift_m: float = 0.0) -> float:
+    """Largest steer angle (rad) at which both arms of ``design`` still reach the grips
+    (:func:`pedalrepro.nonlinear.arms.steer_reach_rad`); 0 when the loop does not close."""
+    from . import arms as _arms
+    from .arm_design import loop
+
+    bicycle = model_spec(model)["bicycle"]
+    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
+    try:
+        return _arms.steer_reach_rad(loop(design, bicycle, drop), asmb.thesis_bicycle(bicycle))
+    except ValueError:
+        return 0.0
+
+
 def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
-                   min_flexion_original_rad: float = 0.0):
+                   min_flexion_original_rad: float = 0.0, min_steer_reach_rad: float = 0.0,
+                   rider_shift_m: float = 0.0, starts=None):
     """Smallest change of the arm design (in units of the range half-widths) giving
     ``dK0[1,1] = target_term``, with the arms still reaching the grips at the original seat
     height with an elbow flexion of at least ``min_flexion_original_rad`` (Fig E.1 needs the
-    model there). SLSQP; ``dK0`` from the numerical linearisation (forward differences).
+    model there) and, while steering, up to ``min_steer_reach_rad`` (the loop must close over
+    the steer angles the simulations reach). SLSQP from each of ``starts`` (normalised
+    changes; default the nominal design), the smallest feasible result kept; ``dK0`` of the
+    arm particles (:func:`particle_arm_term`), then Newton steps on the non-linear model's
+    numerical linearisation (:func:`arm_term`).
 
     Returns (design, normalised change per parameter).
     """
@@ -337,29 +413,65 @@ def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
     def design(z):
         return nominal.with_vector(v0 + r * z)
 
-    def term(z):
-        return arm_term(model, design(z)) - target_term
+    def term(z, fn=particle_arm_term):
+        try:
+            with np.errstate(invalid="ignore"):  # NaN elbow: the loop is open while steering
+                value = fn(model, design(z), rider_shift_m) - target_term
+        except ValueError:  # the loop does not close
+            return 1e3
+        return value if np.isfinite(value) else 1e3
 
     def term_jac(z):
         f = term(z)
         return np.array([(term(z + 1e-6 * e) - f) / 1e-6 for e in np.eye(v0.size)])
 
+    def model_term(z):
+        return term(z, arm_term)
+
     def reach(z):
         flex = elbow_flexion_rad(design(z), model, True)
         return (flex if np.isfinite(flex) else -1.0) - min_flexion_original_rad
 
-    res = minimize(lambda z: float(z @ z), np.zeros(v0.size), jac=lambda z: 2 * z,
-                   method="SLSQP", constraints=[{"type": "eq", "fun": term, "jac": term_jac},
-                                                {"type": "ineq", "fun": reach}],
-                   options={"ftol": 1e-16, "maxiter": 200})
-    z = res.x
-    for _ in range(6):  # Newton on the equation along the gradient (keeps the optimum)
-        f = term(z)
-        if abs(f) < 1e-13:
-            break
-        g = term_jac(z)
-        z = z - g * f / float(g @ g)
-    return design(z), z
+    constraints = [{"type": "eq", "fun": term, "jac": term_jac},
+                   {"type": "ineq", "fun": reach}]
+    if min_steer_reach_rad > 0:
+        constraints.append({"type": "ineq", "fun": lambda z: arm_closure_margin_m2(
+            model, design(z), min_steer_reach_rad, rider_shift_m)})
+    best = None
+    for z0 in (np.zeros(v0.size),) if starts is None else starts:
+        res = minimize(lambda z: float(z @ z), np.asarray(z0, float), jac=lambda z: 2 * z,
+                       method="SLSQP", constraints=constraints,
+                       options={"ftol": 1e-16, "maxiter": 200})
+        z = res.x
+        for _ in range(6):  # Newton on the equation along the gradient (keeps the optimum)
+            f = model_term(z)
+            if abs(f) < 1e-13:
+                break
+            g = term_jac(z)
+            z = z - g * f / float(g @ g)
+        ok = abs(model_term(z)) < 1e-9 and all(np.all(np.asarray(c["fun"](z)) >= -1e-9)
+                                          for c in constraints[1:])
+        key = (not ok, float(z @ z))
+        if best is None or key < best[0]:
+            best = (key, z)
+    return design(best[1]), best[1]
+
+
+def _arm_starts(nominal, ranges: dict) -> list[np.ndarray] | None:
+    """Starting points of :func:`calibrate_arms` for a design with a free arm plane (HS): the
+    nominal straight arm is singular (its dK0[1,1] diverges at full extension), so the search
+    starts from flexed arms (segments +1 half-width) with the elbow turned by 0, +-1/2 and +-1
+    half-widths of its direction."""
+    if nominal.elbow_dir_rad is None:
+        return None
+    keys = nominal.keys()
+    out = []
+    for turn in (0.0, 0.5, -0.5, 1.0, -1.0):
+        z = np.zeros(len(keys))
+        z[keys.index("a")] = z[keys.index("b")] = 1.0
+        z[keys.index("elbow_dir_rad")] = turn
+        out.append(z)
+    return out
 
 
 #: Calibrations read by :func:`use_file` (the pipeline's downstream rules), by model.
@@ -386,7 +498,8 @@ def to_dict(cal: Calibration) -> dict:
                                 for k, v in cal.arm_contribution.items()}}
     for key, design in (("arm_design", cal.arm_design), ("arm_nominal", cal.arm_nominal)):
         if design is not None:
-            out[key] = {f.name: float(getattr(design, f.name)) for f in fields(design)}
+            out[key] = {f.name: None if getattr(design, f.name) is None
+                        else float(getattr(design, f.name)) for f in fields(design)}
     return out
 
 
@@ -455,23 +568,32 @@ def solve_model(model: str) -> Calibration:
     target = params.appendix_b_model(model)
 
     design = arm_nominal = None
+    spec = settings.get("rider_seat_shift", {}).get(bicycle)
     if has_arms(model):
         from .arm_design import nominal_design
 
-        arm_nominal = nominal_design(bicycle, asmb.thesis_rider(bicycle).mass)
+        plane = model_spec(model).get("arm_plane", "sagittal")
+        arm_nominal = nominal_design(bicycle, asmb.thesis_rider(bicycle).mass, plane)
         lam = asmb.thesis_bicycle(bicycle)["lam"]
         term = steer_stiffness_term({"K0": target.K0}, lam)
-        design, _ = calibrate_arms(model, arm_nominal, term, settings["arm_ranges"],
-                                   _yeadon_elbow_flexion_rad(bicycle))
+        min_flex = _yeadon_elbow_flexion_rad(bicycle) if plane == "sagittal" else 0.0
+        min_reach = float(settings.get("arm_min_steer_reach_rad", {}).get(model, 0.0))
 
-    def at(shift: float, starts: int = 12) -> tuple[Solution, dict, dict]:
+        def arms_at(shift: float, starts=None):
+            return calibrate_arms(model, arm_nominal, term, settings["arm_ranges"], min_flex,
+                                  min_reach, shift, starts or _arm_starts(arm_nominal,
+                                                                          settings["arm_ranges"]))
+
+        design, z = arms_at(0.0)
+
+    def at(shift: float, starts: int = 12, design=design) -> tuple[Solution, dict, dict]:
         asm = asmb.assembly(model, False, float(shift), design)
         nominal = {b: body_part(asm.bicycle, b) for b in ("B", "H")}
         extra = _arm_contribution(model, asm, nominal)
-        return solve(asm, target, settings, extra, starts), nominal, extra
+        free_iyy = model in settings.get("free_pitch_inertia", ())
+        return solve(asm, target, settings, extra, starts, free_iyy), nominal, extra
 
     base, nominal, extra = at(0.0)
-    spec = settings.get("rider_seat_shift", {}).get(bicycle)
     if not spec:
         return Calibration(model, nominal, base.frames, base.distance, base.residual, base.valid,
                            extra, arm_design=design, arm_nominal=arm_nominal)
@@ -481,7 +603,10 @@ def solve_model(model: str) -> Calibration:
     lo, hi = (float(x) for x in spec["range_m"])
 
     def total(shift: float, starts: int = 4) -> float:
-        sol = at(shift, starts)[0]
+        try:
+            sol = at(shift, starts)[0]
+        except ValueError:  # the shoulders moved out of the arms' reach
+            return 1e9
         return sol.distance + (shift / scale) ** 2 + (0.0 if sol.valid else 1e6)
 
     grid = np.linspace(lo, hi, int(spec.get("grid", 21)))
@@ -490,74 +615,9 @@ def solve_model(model: str) -> Calibration:
     res = minimize_scalar(total, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]),
                           method="bounded", options={"xatol": 1e-5})
     shift = float(res.x)
-    sol, _, extra = at(shift)
+    if design is not None:
+        # the shift moves the shoulders: the arms again, at the shift (from the design at 0)
+        design, _ = arms_at(shift, [z])
+    sol, _, extra = at(shift, design=design)
     return Calibration(model, nominal, sol.frames, sol.distance + (shift / scale) ** 2,
                        sol.residual, sol.valid, extra, shift, base, design, arm_nominal)
-
-
-def straight_arm_study(model: str, target_term: float, ranges: dict) -> dict[str, float]:
-    """HS (thesis Fig 3.3a): ``dK0[1,1]`` of straight-arm joint layouts on Yeadon's straight
-    Stratos arms (72 kg rider) and the smallest change, in range half-widths, of shoulder,
-    grip and arm mass that reaches ``target_term`` (damped Gauss-Newton).
-
-    Returns ``{"<layout>_term": .., "<layout>_change": max |change| / half-width}`` for the
-    sliding layouts and ``hinged_elbow_term`` for shoulder/elbow hinges on the nearly straight
-    arm (Yeadon's tilted flexion axis; singular at full extension).
-    """
-    from . import arms as _arms
-    from .arm_design import particle_steer_term, straight_arm_particles, yeadon_total_mass_kg
-
-    bicycle = model_spec(model)["bicycle"]
-    bench = asmb.thesis_bicycle(bicycle)
-    lam = bench["lam"]
-    y = _arms.yeadon_arms(bicycle)
-    scale = asmb.thesis_rider(bicycle).mass / yeadon_total_mass_kg(bicycle)
-    s0, g0 = y.shoulder, y.grip
-    length = np.linalg.norm(g0 - s0)
-    axis = (g0 - s0) / length
-    segs = [(y.upper.mass, y.upper.com), (y.forearm.mass, y.forearm.com), (y.hand.mass,
-                                                                             y.hand.com)]
-    frac = [float((c - s0) @ axis / length) for _, c in segs]
-    keys = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z", "mass_scale")
-    r = np.array([float(ranges[k]["abs"]) if "abs" in ranges[k]
-                  else float(ranges[k]["rel"]) * scale for k in keys])
-
-    def term(kind: str, z: np.ndarray) -> float:
-        dv = r * z
-        s = s0 + dv[0:3]
-        g = g0 + np.array([dv[3], 0.0, dv[4]])
-        parts = [(m * (scale + dv[5]), f) for (m, _), f in zip(segs, frac, strict=True)]
-        return particle_steer_term(straight_arm_particles(kind, s, g, parts, bench), lam)
-
-    out: dict[str, float] = {}
-    for kind in ("hand_slides", "shoulder_slides"):
-        z = np.zeros(len(keys))
-        out[f"{kind}_term"] = f = term(kind, z)
-        for _ in range(60):  # damped Gauss-Newton (minimum norm) on the one equation
-            g = np.array([(term(kind, z + 1e-5 * e) - f) / 1e-5 for e in np.eye(len(keys))])
-            step = g * (target_term - f + g @ z) / float(g @ g) - z
-            alpha = 1.0
-            while alpha > 1e-3:
-                trial = term(kind, z + alpha * step)
-                if np.isfinite(trial) and abs(trial - target_term) < abs(f - target_term):
-                    break
-                alpha /= 2
-            z, f = z + alpha * step, trial
-            if abs(f - target_term) < 1e-10:
-                break
-        out[f"{kind}_change"] = float(np.max(np.abs(z)))
-        out[f"{kind}_residual"] = term(kind, z) - target_term
-    loop = _arms.arm_loop(s0, y)
-    upper = _arms.rod_particles(y.upper, loop.shoulder, loop.elbow())
-    fore = _arms.rod_particles(y.forearm, loop.elbow(), loop.grip)
-
-    def hinged(delta: float):
-        return [(m * scale, p) for m, p in _arms.moving_particles(
-            _arms.ArmLoop(loop.shoulder, loop.grip, loop.normal, loop.a, loop.b, loop.sign,
-                          upper, fore), delta, bench)]
-
-    out["hinged_elbow_term"] = particle_steer_term(hinged, lam, h=1e-7)
-    out["hinged_elbow_flexion_deg"] = float(np.degrees(np.arccos(
-        (y.elbow - y.shoulder) @ (y.grip - y.elbow) / np.linalg.norm(y.elbow - y.shoulder)
-        / np.linalg.norm(y.grip - y.elbow))))
-    return out

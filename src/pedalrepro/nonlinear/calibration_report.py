@@ -10,21 +10,20 @@ from __future__ import annotations
 import numpy as np
 
 from .. import params
-from . import bodies, substitute
-from .arm_design import DESIGN_KEYS
+from . import bodies
 from .assembly import thesis_bicycle
 from .calibration import (
     NAMES,
+    arm_term,
     calibrate,
     max_relative_difference,
     save,
     steer_stiffness_term,
-    straight_arm_study,
     whipple_matrices,
 )
 from .models import nt_model
 from .numeric import benchmark_matrices
-from .settings import model_spec, thesis_inputs
+from .settings import model_spec
 
 
 def verify(model: str) -> float:
@@ -35,8 +34,9 @@ def verify(model: str) -> float:
 
 #: Units of the frame and arm parameters in the table.
 UNITS = {"m": "kg", "x": "m", "z": "m", "Ixx": "kg m^2", "Izz": "kg m^2", "Ixz": "kg m^2",
-         "shoulder_x": "m", "shoulder_y": "m", "shoulder_z": "m", "grip_x": "m", "grip_z": "m",
-         "a": "m", "b": "m", "mass_scale": "-"}
+         "Iyy": "kg m^2", "shoulder_x": "m", "shoulder_y": "m", "shoulder_z": "m",
+         "grip_x": "m", "grip_y": "m", "grip_z": "m", "a": "m", "b": "m", "mass_scale": "-",
+         "elbow_dir_rad": "rad"}
 
 
 def table(models) -> list[tuple]:
@@ -53,7 +53,8 @@ def table(models) -> list[tuple]:
         rows.append((model, "rider", "seat shift", "m", 0.0, float(cal.rider_shift_m)))
         if cal.arm_design is not None:
             rows += [(model, "arms", key, UNITS[key], float(b), float(a)) for key, b, a in zip(
-                DESIGN_KEYS, cal.arm_nominal.vector(), cal.arm_design.vector(), strict=True)]
+                cal.arm_design.keys(), cal.arm_nominal.vector(), cal.arm_design.vector(),
+                strict=True)]
     return rows
 
 
@@ -74,14 +75,26 @@ def checks(models) -> list[tuple]:
     return out
 
 
+def arm_checks(model: str) -> list[tuple]:
+    """Rows (model, check, value) of a model with arm loops: Appendix B's steer stiffness term
+    ``dK0[1,1]`` and that of the uncalibrated (Yeadon) arms (HS: a straight arm, singular)."""
+    cal = calibrate(model)
+    if cal.arm_design is None:
+        return []
+    target = steer_stiffness_term({"K0": params.appendix_b_model(model).K0},
+                                  thesis_bicycle(model_spec(model)["bicycle"])["lam"])
+    return [(model, "appendix_b_steer_stiffness_term", target),
+            (model, "uncalibrated_arm_steer_stiffness_term", arm_term(model, cal.arm_nominal)),
+            (model, "calibrated_arm_steer_stiffness_term",
+             arm_term(model, cal.arm_design, cal.rider_shift_m))]
+
+
 def write_results(models, table_csv, checks_csv, record_yaml) -> None:
     """Rule ``nonlinear_calibration``: the calibration table, its checks and the record the
-    downstream rules read (:func:`use_file`). Substitutes (HS) are not calibrated: they use
-    the frames of their body (HR) plus the linear correction."""
+    downstream rules read (:func:`use_file`)."""
     import pandas as pd
 
-    subs = [m for m in models if m != "benchmark" and substitute.is_substitute(m)]
-    models = [m for m in models if m != "benchmark" and not substitute.is_substitute(m)]
+    models = [m for m in models if m != "benchmark"]
     save(record_yaml, models)
     df = pd.DataFrame(table(models), columns=["model", "body", "parameter", "unit",
                                               "uncalibrated", "calibrated"])
@@ -89,16 +102,5 @@ def write_results(models, table_csv, checks_csv, record_yaml) -> None:
     df["relative_change"] = df["change"] / df["uncalibrated"].abs().where(
         df["uncalibrated"] != 0)
     df.to_csv(table_csv, index=False)
-    rows = checks(models) + [r for m in subs for r in straight_arm_checks(m)]
+    rows = checks(models) + [r for m in models for r in arm_checks(m)]
     pd.DataFrame(rows, columns=["model", "check", "value"]).to_csv(checks_csv, index=False)
-
-
-def straight_arm_checks(model: str) -> list[tuple]:
-    """Why HS stays a substitute, as numbers (:func:`arm_design.straight_arm_study`): the
-    straight-arm layouts' dK0[1,1] against Appendix B's and the change they would need."""
-    bicycle = model_spec(model)["bicycle"]
-    target = steer_stiffness_term({"K0": params.appendix_b_model(model).K0},
-                                  thesis_bicycle(bicycle)["lam"])
-    study = straight_arm_study(model, target, thesis_inputs()["calibration"]["arm_ranges"])
-    return [(model, "appendix_b_steer_stiffness_term", target)] + [
-        (model, f"straight_arms_{k}", float(v)) for k, v in study.items()]

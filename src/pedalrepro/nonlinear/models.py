@@ -1,13 +1,13 @@
 """The non-linear thesis models ready to integrate: NT (legs fixed) and NP (legs prescribed).
 
 Each model is a :class:`.numeric.NonlinearModel` built from the bodies of :mod:`.bodies`, with
-CF's arm loops (:mod:`.arms`) and HS's linear correction (:mod:`.substitute`).
+the arm loops of CF and HS (:mod:`.arms`, :mod:`.arm_design`).
 """
 
 from __future__ import annotations
 
 from .. import params
-from . import bodies, substitute
+from . import bodies
 from .numeric import NonlinearModel, benchmark_matrices
 from .settings import model_options, model_spec
 
@@ -15,12 +15,10 @@ from .settings import model_options, model_spec
 def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
     """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3).
 
-    CF carries its arm loops (:mod:`pedalrepro.nonlinear.arms`); HS is a substitute
-    (:mod:`pedalrepro.nonlinear.substitute`): its rigid-rider body plus the linear correction
-    to Appendix B. ``original_seat``: the city rider at the original 0.77 m seat (Fig E.1).
+    CF and HS carry their arm loops (:mod:`pedalrepro.nonlinear.arms`). ``original_seat``:
+    the city rider at the original 0.77 m seat (Fig E.1).
     """
     return NonlinearModel(bodies.legs_fixed(name, original_seat), model_options(name),
-                          linear_correction=substitute.linear_correction(name),
                           arm_parameters=bodies.model_bodies(name, original_seat)[1],
                           steer_limit_rad=bodies.steer_limit_rad(name, original_seat))
 
@@ -33,7 +31,7 @@ def np_model(name: str, cadence_rad_s: float) -> NonlinearModel:
     """
     leg_params, spec, _ = bodies.leg_bodies(name, cadence_rad_s)
     return NonlinearModel(bodies.without_legs(name), model_options(name, legs=True),
-                          leg_params, spec, linear_correction=substitute.linear_correction(name),
+                          leg_params, spec,
                           arm_parameters=bodies.model_bodies(name)[1],
                           steer_limit_rad=bodies.steer_limit_rad(name))
 

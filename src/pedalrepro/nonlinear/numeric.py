@@ -94,8 +94,9 @@ class NonlinearModel:
         order of the generated ``SPEC`` list).
     linear_correction
         Optional benchmark-form matrices ``{"M", "C1", "K0", "K2"}`` (2 x 2 each, Eq 3.1)
-        added to the roll and steer equations (:func:`model._add_linear_correction`): the
-        substitute model HS. ``None``: no correction (all other models).
+        added to the roll and steer equations (:func:`model._add_linear_correction`), e.g. to
+        study a model whose linearisation must equal given matrices. ``None`` (every thesis
+        model): no correction.
     arm_parameters
         With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
         (:func:`pedalrepro.nonlinear.bodies.model_bodies`).

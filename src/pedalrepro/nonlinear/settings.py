@@ -11,9 +11,8 @@ from functools import cache
 from .. import params, paths
 from . import model as symbolic
 
-#: Models with a non-linear counterpart here. CF has its own arm loops
-#: (:mod:`pedalrepro.nonlinear.arms`); HS is a substitute (rigid-rider body plus a linear
-#: correction to Appendix B, :mod:`pedalrepro.nonlinear.substitute`).
+#: Models with a non-linear counterpart here. CF and HS have arm loops
+#: (:mod:`pedalrepro.nonlinear.arms`, :mod:`pedalrepro.nonlinear.arm_design`).
 NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
 
 
@@ -31,7 +30,7 @@ def thesis_inputs() -> dict:
 
 
 def model_spec(model: str) -> dict:
-    """The ``models`` entry of ``model`` (bicycle, legs, rider, arms, substitute)."""
+    """The ``models`` entry of ``model`` (bicycle, legs, rider, arms, arm_plane)."""
     models = settings()["models"]
     if model not in models:
         raise KeyError(f"no non-linear model {model!r} in nonlinear_models.yaml: expected one of "
@@ -40,10 +39,10 @@ def model_spec(model: str) -> dict:
 
 
 def has_arms(model: str) -> bool:
-    """True for a model with arm loops (``arms`` in nonlinear_models.yaml: CF)."""
+    """True for a model with arm loops (``arms`` in nonlinear_models.yaml: CF, HS)."""
     return model != "benchmark" and bool(model_spec(model).get("arms"))
 
 
 def model_options(model: str, legs: bool = False) -> symbolic.ModelOptions:
-    """The symbolic model of ``model`` (arm loops for CF), with or without moving legs."""
+    """The symbolic model of ``model`` (arm loops for CF, HS), with or without moving legs."""
     return symbolic.ModelOptions(legs=legs, arms=has_arms(model))

@@ -1,9 +1,8 @@
-"""The substitute non-linear model HS (rigid-rider body + linear correction) and seat changes.
+"""The optional linear correction terms of the non-linear model, and seat changes.
 
-Expected values: thesis Appendix B (Eq B.2-B.17) for the substitute's linearisation, Meijaard et
-al. (2007) plus an arbitrary correction for the correction terms themselves, and the benchmark
-roll inertia formula (Meijaard 2007, T_xx) for the seat change of the rigid city rider. CF has
-its own arm loops (tests/test_arms.py).
+Expected values: Meijaard et al. (2007) plus an arbitrary correction for the correction terms,
+and the benchmark roll inertia formula (Meijaard 2007, T_xx) for the seat change of the rigid
+city rider. HS and CF have their own arm loops (tests/test_arms.py, tests/test_calibration.py).
 """
 
 from __future__ import annotations
@@ -12,7 +11,7 @@ import numpy as np
 import pytest
 
 from pedalrepro import params
-from pedalrepro.nonlinear import bodies, model, models, substitute
+from pedalrepro.nonlinear import bodies, model, models
 from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
 
 NAMES = ("M", "C1", "K0", "K2")
@@ -21,17 +20,6 @@ NAMES = ("M", "C1", "K0", "K2")
 def assert_matrices_equal(got, want, rel=1e-9, abs_=1e-9):
     for k in NAMES:
         np.testing.assert_allclose(got[k], want[k], rtol=rel, atol=abs_, err_msg=k)
-
-
-@pytest.mark.parametrize("name", ["HS"])
-def test_substitute_linearises_to_appendix_b(name):
-    """NT substitute = Appendix B to round-off (the construction), though its body differs."""
-    ab = params.appendix_b_model(name)
-    want = {k: getattr(ab, k) for k in NAMES}
-    assert_matrices_equal(benchmark_matrices(models.nt_model(name)), want)
-    body = substitute.body_linearisation(name)
-    # the rigid-rider body alone is far from Appendix B (the arms' share): steer inertia
-    assert abs(body["M"][1, 1] - ab.M[1, 1]) / ab.M[1, 1] > 0.1
 
 
 def test_correction_adds_exactly_to_the_benchmark():
@@ -45,13 +33,14 @@ def test_correction_adds_exactly_to_the_benchmark():
     assert_matrices_equal(corrected, {k: plain[k] + corr[k] for k in NAMES})
 
 
-def test_models_built_from_their_bodies_have_no_correction():
-    assert substitute.linear_correction("HR") is None
-    assert substitute.linear_correction("CR") is None
-    assert substitute.linear_correction("CF") is None  # own arm loops
-    assert not substitute.is_substitute("CF") and substitute.is_substitute("HS")
+def test_correction_parameters_are_the_sixteen_entries():
+    """The optional linear correction (NonlinearModel(linear_correction=...), zero in every
+    thesis model since HS has its own arm loops) has one parameter per matrix entry."""
     assert set(model.correction_parameter_names()) == {
         f"lc_{k}_{i}{j}" for k in NAMES for i in range(2) for j in range(2)}
+    assert not any(v != 0.0 for n, v in zip(models.nt_model("HR")._code.PARAMS,
+                                           models.nt_model("HR").p, strict=True)
+                   if n.startswith("lc_"))
 
 
 @pytest.mark.parametrize("bad", [{"M": np.eye(2)}, {k: np.eye(3) for k in NAMES},
