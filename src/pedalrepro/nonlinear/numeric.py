@@ -222,9 +222,16 @@ class NonlinearModel:
         """Largest relative change of the total energy over a run, and the energies (J).
 
         ``t_s`` (n,) and ``states`` (6, n) as in :class:`pedalrepro.integrator.Simulation`. With no
-        dissipation and scleronomic constraints the energy is constant (Sec 3.1.1.3 check).
+        dissipation and scleronomic constraints the energy is constant (Sec 3.1.1.3 check). A run
+        that ended early (fall, steer limit) has NaN samples after its end: the energies are
+        those of the simulated samples.
         """
-        energy = np.array([self.energy_J(t, states[:, k]) for k, t in enumerate(t_s)])
+        states = np.asarray(states)
+        simulated = np.all(np.isfinite(states), axis=0)
+        if simulated.sum() < 2:
+            raise ValueError("energy drift: fewer than two simulated samples")
+        energy = np.array([self.energy_J(t, states[:, k]) for k, t in enumerate(t_s)
+                           if simulated[k]])
         return float(np.max(np.abs(energy - energy[0])) / abs(energy[0])), energy
 
     # -- linearisation ------------------------------------------------------------------------
