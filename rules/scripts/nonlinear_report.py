@@ -63,24 +63,23 @@ for name in models:
         "bicycle frames calibrated to Appendix B (rule nonlinear_calibration, calibration.csv)"
         + ("; arm loops (shoulder flexion, elbow hinge, hands on the handlebar) with calibrated "
            "arm geometry" if name in ("CF", "HS") else "") + "; see book/deviations.md."))
-rows.append(check(
-    "nonlinear.hs_arm_loops", "HS" in models,
-    shown="built (SymBRiM + Kane)" if "HS" in models else "not built",
-    unavailable=None if "HS" in models else "",
-    note="Forward-leaning trunk fixed to the rear frame, arms hinged at shoulders and elbows, "
-    "hands on the straight bar where Yeadon's hands hold it (Fig 3.3a); no added degree of "
-    "freedom. A fully straight arm locks the steering, so the arms keep the least elbow flexion "
-    "that lets the loop close up to 0.25 rad of steer; the plane in which the elbows bend is "
-    "calibrated with the arm geometry to Appendix B; see book/deviations.md, Model substitutes."))
-rows.append(check(
-    "nonlinear.cf_arm_loops", "CF" in models,
-    shown="built (SymBRiM + Kane)" if "CF" in models else "not built",
-    unavailable=None if "CF" in models else "",
-    note="Arms hinged at shoulders and elbows, hands on the handlebar (Schwab et al. 2012, Fig "
-    "3.4): each arm an upper arm and a forearm as rods of three particles, elbow in closed form "
-    "from the steer angle, hands lumped into the front frame; no added degree of freedom. Yeadon "
-    "segments of rider Jason (BicycleParameters), grip width = shoulder width, arm geometry "
-    "calibrated to Appendix B; see data/parameters/nonlinear_models.yaml."))
+ARM_MODELS = {
+    "HS": "Forward-leaning trunk fixed to the rear frame, arms hinged at shoulders and elbows, "
+          "hands on the straight bar where Yeadon's hands hold it (Fig 3.3a); no added degree "
+          "of freedom. A fully straight arm locks the steering, so the arms keep the least elbow "
+          "flexion that lets the loop close up to 0.25 rad of steer; the plane in which the "
+          "elbows bend is calibrated with the arm geometry to Appendix B; see "
+          "book/deviations.md, Model substitutes.",
+    "CF": "Arms hinged at shoulders and elbows, hands on the handlebar (Schwab et al. 2012, Fig "
+          "3.4): each arm an upper arm and a forearm as rods of three particles, elbow in closed "
+          "form from the steer angle, hands lumped into the front frame; no added degree of "
+          "freedom. Yeadon segments of rider Jason (BicycleParameters), grip width = shoulder "
+          "width, arm geometry calibrated to Appendix B; see "
+          "data/parameters/nonlinear_models.yaml."}
+for name, note in ARM_MODELS.items():
+    rows.append(check(f"nonlinear.{name.lower()}_arm_loops", name in models,
+                      shown="built (SymBRiM + Kane)" if name in models else "not built",
+                      unavailable=None if name in models else "", note=note))
 e77 = np.load(snakemake.input.eigen_e_1)
 ranges77 = e77["stable_ranges_m_s"].reshape(-1, 2)
 stable77 = ("none" if ranges77.size == 0 else
