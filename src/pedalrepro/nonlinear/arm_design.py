@@ -150,7 +150,9 @@ def loop(design: ArmDesign, bicycle: str, drop: np.ndarray) -> _arms.ArmLoop:
     out = _arms.ArmLoop(shoulder, grip, normal, design.a, design.b,
                         design.sign, (upper[0] * s, upper[1] * s, upper[2] * s, upper[3]),
                         (fore[0] * s, fore[1] * s, fore[2] * s, fore[3]))
-    if not np.all(np.isfinite(out.elbow())):
+    with np.errstate(invalid="ignore"):  # NaN elbow: the error below says why
+        closes = bool(np.all(np.isfinite(out.elbow())))
+    if not closes:
         raise ValueError(f"arm loop cannot close: shoulder-grip distance exceeds a + b "
                          f"({design})")
     return out

@@ -421,9 +421,9 @@ def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
             return 1e3
         return value if np.isfinite(value) else 1e3
 
-    def term_jac(z):
-        f = term(z)
-        return np.array([(term(z + 1e-6 * e) - f) / 1e-6 for e in np.eye(v0.size)])
+    def term_jac(z, fn=particle_arm_term, step=1e-5):
+        f = term(z, fn)
+        return np.array([(term(z + step * e, fn) - f) / step for e in np.eye(v0.size)])
 
     def model_term(z):
         return term(z, arm_term)
@@ -443,11 +443,11 @@ def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
                        method="SLSQP", constraints=constraints,
                        options={"ftol": 1e-16, "maxiter": 200})
         z = res.x
-        for _ in range(6):  # Newton on the equation along the gradient (keeps the optimum)
-            f = model_term(z)
+        for _ in range(8):  # Newton on the model's equation along its gradient (keeps the
+            f = model_term(z)  # optimum; the particle term's round-off is ~1e-9)
             if abs(f) < 1e-13:
                 break
-            g = term_jac(z)
+            g = term_jac(z, arm_term, 1e-6)
             z = z - g * f / float(g @ g)
         ok = abs(model_term(z)) < 1e-9 and all(np.all(np.asarray(c["fun"](z)) >= -1e-9)
                                           for c in constraints[1:])
