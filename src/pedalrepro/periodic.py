@@ -41,11 +41,7 @@ and a pseudo-arclength corrector, and marks where a Floquet multiplier crosses t
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import math
-import os
-import shutil
-import subprocess
 from dataclasses import asdict, dataclass, field
 from functools import cache
 from pathlib import Path
@@ -54,6 +50,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import linear, response
+from .integrator import build
 from .params import LinearModel
 
 if TYPE_CHECKING:
@@ -157,21 +154,9 @@ class _Adapter:
         from .nonlinear.library import FORCING_C
 
         src = "\n".join([model_c, FORCING_C.read_text(), _DRIVER.read_text()])
-        digest = hashlib.sha256(src.encode()).hexdigest()[:16]
-        folder = Path(codegen.cache_dir())
-        folder.mkdir(parents=True, exist_ok=True)
-        so = folder / f"periodic_{digest}.so"
-        if not so.exists():
-            cc = shutil.which(os.environ.get("CC", "gcc")) or shutil.which("cc")
-            if cc is None:
-                raise RuntimeError("no C compiler for the periodic driver")
-            tmp_c = so.with_suffix(f".{os.getpid()}.c")
-            tmp_c.write_text(src)
-            tmp = so.with_suffix(f".tmp{os.getpid()}.so")
-            subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(tmp_c), "-lm"],
-                           check=True, capture_output=True)
-            tmp.replace(so)
-            tmp_c.unlink()
+        so = build.build(src, Path(codegen.cache_dir()), "periodic")
+        if so is None:
+            raise RuntimeError("no C compiler for the periodic driver")
         lib = ctypes.CDLL(str(so))
         dp, ci, cd = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
         lib.po_rhs.argtypes = [dp, cd, dp, dp, dp]
