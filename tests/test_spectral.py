@@ -43,3 +43,11 @@ def test_batched_and_errors():
         spectral.amplitude_at(np.array([1.0, np.nan, 2.0]), fs, 0.5)
     with pytest.raises(ValueError, match="unknown window"):
         spectral.spectrum(x, fs, window="kaiser")
+
+
+@pytest.mark.parametrize("n", [2, 3, 10, 101, 18001])
+def test_hann_window_is_scipys_to_the_bit(n):
+    """The numpy Hann window equals scipy.signal.windows.hann(n, sym=True) exactly."""
+    from scipy.signal import windows
+
+    assert np.array_equal(spectral.window(n, "hann"), windows.hann(n, sym=True))

@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 #: SPACAR's default local error tolerances used by the thesis (Sec 3.1.2.1).
 SPACAR_RTOL = 1e-4
@@ -219,6 +218,8 @@ def _integrate_compiled(system, c: CompiledRhs, x0, t, rtol, atol, fall_roll_rad
 
 
 def _integrate_python(system, x0, t, rtol, atol, fall_roll_rad, method) -> Simulation:
+    from scipy.integrate import solve_ivp  # the reference path only (0.6 s import)
+
     def guarded(tt, x):
         dx = system.rhs(tt, x)
         if not np.all(np.isfinite(dx)):
