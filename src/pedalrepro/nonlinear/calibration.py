@@ -340,27 +340,27 @@ def elbow_flexion_rad(design, model: str, original_seat: bool) -> float:
     return float(np.pi - np.arccos(cos_in)) if abs(cos_in) <= 1 else float("nan")
 
 
+def _arm_loop(model: str, design, rider_shift_m: float):
+    """The right arm loop of ``design`` with the rider moved ``rider_shift_m`` down the seat
+    tube (as :func:`.assembly.assembly` places it)."""
+    from .arm_design import loop
+
+    bicycle = model_spec(model)["bicycle"]
+    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
+    return loop(design, bicycle, drop)
+
+
 def particle_arm_term(model: str, design, rider_shift_m: float = 0.0) -> float:
     """dK0[1,1] of the design's moving arm particles alone
     (:func:`pedalrepro.nonlinear.arm_design.particle_steer_term`, central differences: within
     ~1e-9 of :func:`arm_term` at a 400th of its cost): the search's term; :func:`arm_term`
     polishes the result."""
     from . import arms as _arms
-    from .arm_design import loop, particle_steer_term
+    from .arm_design import particle_steer_term
 
-    bicycle = model_spec(model)["bicycle"]
-    bench = asmb.thesis_bicycle(bicycle)
-    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
-    arm = loop(design, bicycle, drop)
+    bench = asmb.thesis_bicycle(model_spec(model)["bicycle"])
+    arm = _arm_loop(model, design, rider_shift_m)
     return particle_steer_term(lambda d: _arms.moving_particles(arm, d, bench), bench["lam"])
-
-
-def _arm_loop(model: str, design, rider_shift_m: float):
-    from .arm_design import loop
-
-    bicycle = model_spec(model)["bicycle"]
-    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
-    return loop(design, bicycle, drop)
 
 
 def arm_closure_margin_m2(model: str, design, steer_rad: float,
@@ -375,20 +375,6 @@ def arm_closure_margin_m2(model: str, design, steer_rad: float,
         return -1.0
     return _arms.closure_margin_m2(arm, steer_rad,
                                    asmb.thesis_bicycle(model_spec(model)["bicycle"]))
-
-
-def arm_steer_reach_rad(model: str, design, rider_shift_m: float = 0.0) -> float:
-    """Largest steer angle (rad) at which both arms of ``design`` still reach the grips
-    (:func:`pedalrepro.nonlinear.arms.steer_reach_rad`); 0 when the loop does not close."""
-    from . import arms as _arms
-    from .arm_design import loop
-
-    bicycle = model_spec(model)["bicycle"]
-    drop = asmb.rider_drop_m(model) + rider_shift_m * asmb.seat_tube_unit(model)
-    try:
-        return _arms.steer_reach_rad(loop(design, bicycle, drop), asmb.thesis_bicycle(bicycle))
-    except ValueError:
-        return 0.0
 
 
 def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
@@ -457,7 +443,7 @@ def calibrate_arms(model: str, nominal, target_term: float, ranges: dict,
     return design(best[1]), best[1]
 
 
-def _arm_starts(nominal, ranges: dict) -> list[np.ndarray] | None:
+def _arm_starts(nominal) -> list[np.ndarray] | None:
     """Starting points of :func:`calibrate_arms` for a design with a free arm plane (HS): the
     nominal straight arm is singular (its dK0[1,1] diverges at full extension), so the search
     starts from flexed arms (segments +1 half-width) with the elbow turned by 0, +-1/2 and +-1
@@ -581,8 +567,7 @@ def solve_model(model: str) -> Calibration:
 
         def arms_at(shift: float, starts=None):
             return calibrate_arms(model, arm_nominal, term, settings["arm_ranges"], min_flex,
-                                  min_reach, shift, starts or _arm_starts(arm_nominal,
-                                                                          settings["arm_ranges"]))
+                                  min_reach, shift, starts or _arm_starts(arm_nominal))
 
         design, z = arms_at(0.0)
 
