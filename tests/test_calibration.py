@@ -260,3 +260,26 @@ def test_elbow_direction_round_trip():
     cf = bodies.arm_loop("CF")
     assert arm_design.elbow_direction_rad(cf.shoulder, cf.grip, cf.elbow()) == pytest.approx(
         0.0, abs=1e-12)
+
+
+def test_calibration_runs_with_one_blas_thread_in_every_blas(monkeypatch):
+    """The calibration's result must not depend on the caller's BLAS threads: HS's search over
+    starts and seat shift picks among local optima of a shallow metric, and with numpy's and
+    scipy's BLAS at their default threads it chose another one (metric 9.91, seat shift +1.6 mm)
+    than a one-thread Snakemake job (9.14, -3.0 mm). ``solve_model`` limits every BLAS, scipy's
+    own included (loaded only by scipy.linalg, after the first import), to one thread for the
+    solve and gives the caller's threads back afterwards."""
+    import threadpoolctl
+    seen = {}
+    before = {i["filepath"]: i["num_threads"] for i in threadpoolctl.threadpool_info()}
+
+    def record(model):
+        seen.update({i["filepath"]: i["num_threads"] for i in threadpoolctl.threadpool_info()})
+        return model
+
+    monkeypatch.setattr(cal, "_solve_model", record)
+    assert cal.solve_model.__wrapped__("HS") == "HS"
+    assert any("scipy.libs" in path for path in seen), seen  # scipy's own BLAS is loaded
+    assert set(seen.values()) == {1}, seen
+    after = {i["filepath"]: i["num_threads"] for i in threadpoolctl.threadpool_info()}
+    assert {p: after[p] for p in before} == before

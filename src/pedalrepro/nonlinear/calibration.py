@@ -544,11 +544,25 @@ def calibrate(model: str) -> Calibration:
 def solve_model(model: str) -> Calibration:
     """Calibrate ``model``'s rear and front frames to its Appendix B matrices (see module).
 
+    Runs with one BLAS thread (as a one-thread Snakemake job does): the searches over starting
+    points and seat shift pick the best of several local optima of a shallow metric, and
+    multi-threaded BLAS round-off can change which one wins (HS: metric 9.14 with one thread,
+    9.91 with the default threads), so the result must not depend on the caller's threads.
+
     Where ``thesis_inputs.yaml`` makes the rider's seat position an unknown (``rider_seat_shift``:
     the Stratos, whose rider is an assumption), the metric gains ``(d / scale_m)^2`` for a shift
     ``d`` of the rider down the seat tube, minimised over ``range_m`` (grid, then bounded
     refinement); ``frames_only`` keeps the solution at ``d = 0``.
     """
+    import scipy.optimize  # noqa: F401  (loads scipy's own BLAS, so that the limit reaches it)
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1):  # every BLAS loaded now: numpy's and scipy's
+        return _solve_model(model)
+
+
+def _solve_model(model: str) -> Calibration:
+    """:func:`solve_model` in the caller's threads."""
     settings = thesis_inputs()["calibration"]
     bicycle = model_spec(model)["bicycle"]
     target = params.appendix_b_model(model)
