@@ -130,7 +130,6 @@ rule nonlinear_time_chunk:
 rule nonlinear_time:
     input:
         code=code_inputs("scripts/nonlinear_merge.py"),
-        calibration=NONLINEAR_CALIBRATION,
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
@@ -139,7 +138,7 @@ rule nonlinear_time:
     params:
         grid=TIME_GRID,
         harmonics=HARMONICS,
-        settings=NONLINEAR_SETTINGS,
+        sample_rate_hz=TIME_SAMPLES["sample_rate_hz"],
     wildcard_constraints:
         method="NT|NP",
         model="|".join(NONLINEAR_MODELS),
@@ -149,7 +148,8 @@ rule nonlinear_time:
     benchmark:
         bench("nonlinear_time_{method}_{model}")
     message:
-        "Joining the {wildcards.method} sweep of {wildcards.model} and its six example runs"
+        "Joining the {wildcards.method} sweep of {wildcards.model} (chunk 0 carries its six "
+        "example runs)"
     script:
         "scripts/nonlinear_merge.py"
 

@@ -166,3 +166,19 @@ def test_tests_and_scripts_use_no_private_helper(folder):
                     and node.value.id in aliases):
                 bad.append(f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}")
     assert not bad, f"private helpers of pedalrepro used in {folder}: " + "; ".join(bad)
+
+
+def test_sweep_jobs_import_no_scipy():
+    """The NT/NP sweep jobs (rules/scripts/nonlinear_time.py and nonlinear_merge.py: 8 jobs
+    each on the thesis grid, ~1 s of start-up apiece) import no scipy module: the compiled
+    integrator, the numpy Hann window and the lazy scipy.optimize imports of
+    pedalrepro.linear keep it out (scipy.optimize alone cost ~0.5 s per job)."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom pedalrepro import evaluation, response\n"
+            "from pedalrepro.nonlinear import calibration, sweep\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] == 'scipy'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]"

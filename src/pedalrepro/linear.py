@@ -20,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq, linear_sum_assignment
 
 from . import params
 from .params import LinearModel
@@ -116,6 +115,8 @@ def eigenvalues(model: LinearModel, speed_m_s: np.ndarray | float) -> np.ndarray
 
 def _track(eig: np.ndarray) -> np.ndarray:
     """Reorder the columns of ``eig`` (n_v, 4) so that each column is a continuous branch."""
+    from scipy.optimize import linear_sum_assignment  # here: sweep jobs never track branches
+
     out = np.empty_like(eig)
     out[0] = eig[0][np.lexsort((eig[0].imag, eig[0].real))]
     for i in range(1, len(eig)):
@@ -202,6 +203,7 @@ def max_real_part(model: LinearModel, speed_m_s: float) -> float:
 
 def _branch_root(model: LinearModel, sweep: EigenSweep, col: int, i: int) -> float:
     """Speed where branch ``col`` has zero real part, between grid speeds ``i`` and ``i+1``."""
+    from scipy.optimize import brentq
     v = sweep.speed_m_s
     lam = sweep.eigenvalues[:, col]
 
@@ -240,6 +242,8 @@ def stable_ranges(model: LinearModel, speed_m_s: np.ndarray) -> list[tuple[float
 
     An interval reaching the end of the grid is reported with that grid end.
     """
+    from scipy.optimize import brentq
+
     v = np.asarray(speed_m_s, dtype=float)
     g = eigenvalues(model, v).real.max(axis=-1)
     stable = g < 0

@@ -81,6 +81,27 @@ def amplitudes(sim: Simulation | None, omega_rad_s: float, sample_rate_hz: float
             float(spectral.amplitude_at(sim.steer_rad[ok], sample_rate_hz, f)))
 
 
+def time_histories(method: str, name: str, speeds_m_s, omegas_rad_s, harmonics,
+                   settings: RunSettings, t_s: np.ndarray) -> dict[str, np.ndarray]:
+    """Roll and steer time histories of the runs at the points ``(speeds_m_s[k],
+    omegas_rad_s[k])`` on the samples ``t_s`` (the example runs and one-speed series of Figs
+    3.18-3.29): ``roll_rad``, ``steer_rad`` (NaN after a fall), ``t_end_s``, ``fell``. A point
+    at zero cadence is the unforced upright motion: zero roll and steer to the end."""
+    roll = np.full((len(speeds_m_s), t_s.size), np.nan)
+    steer = np.full_like(roll, np.nan)
+    end = np.zeros(len(speeds_m_s))
+    fell = np.zeros(len(speeds_m_s), bool)
+    for k, (vk, wk) in enumerate(zip(speeds_m_s, omegas_rad_s, strict=True)):
+        sim = run(method, name, vk, wk, harmonics, settings)
+        if sim is None:
+            roll[k], steer[k], end[k] = 0.0, 0.0, t_s[-1]
+            continue
+        n = min(t_s.size, sim.t_s.size)
+        roll[k, :n], steer[k, :n] = sim.roll_rad[:n], sim.steer_rad[:n]
+        end[k], fell[k] = sim.t_end_s, sim.fell
+    return {"roll_rad": roll, "steer_rad": steer, "t_end_s": end, "fell": fell}
+
+
 def grid_runs(method: str, name: str, speeds_m_s, omegas_rad_s, harmonics,
               settings: RunSettings) -> dict[str, np.ndarray]:
     """Amplitudes, end times and fall flags on ``speeds x omegas`` (one run per point)."""
