@@ -116,6 +116,8 @@ rule nonlinear_time_chunk:
         model="|".join(NONLINEAR_MODELS),
         chunk=r"\d+",
     threads: 1
+    # longest first; before a first run here, NP (moving legs: dearer right-hand side) first
+    priority: longest_first("nonlinear_time_{method}_{model}_{chunk}", lambda wc: wc.method == "NP")
     log:
         logfile("nonlinear_time_{method}_{model}_{chunk}"),
     benchmark:

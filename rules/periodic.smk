@@ -47,6 +47,7 @@ rule periodic_map:
         rtol=PERIODIC["rtol"],
         max_growth=PERIODIC["max_growth"],
     threads: 1
+    priority: longest_first("periodic_map_{grid}_{method}_{model}")
     log:
         logfile("periodic_map_{grid}_{method}_{model}"),
     benchmark:

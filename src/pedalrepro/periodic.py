@@ -302,7 +302,7 @@ class OrbitSolver:
         else:
             spec = self.nl.spec
             fc.n_spec, fc.n_four, fc.omega = self.nl.n_spec, spec.coef.shape[1], spec.omega_rad_s
-            fc.four_re, fc.four_im = self._ptr(spec.coef.real), self._ptr(spec.coef.imag)
+            fc.four_re, fc.four_im = (self._ptr(a) for a in spec.harmonic_major())
             fc.slope = self._ptr(spec.slope)
         idx = _Adapter.indices()
         fc.iq[:], fc.iu[:], fc.idep[:] = idx["iq"], idx["iu"], idx["idep"]

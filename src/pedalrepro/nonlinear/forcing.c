@@ -17,8 +17,13 @@ typedef struct {
     const double *p;                                           /* the model's parameters */
 } forcing_t;
 
-/* Forcing at time t: prescribed motion s (when n_spec > 0) and the roll and steer torques. */
-static void pedal_forcing(const forcing_t *fc, double t, double *s, double *tr, double *ts) {
+/* Forcing at time t: prescribed motion s (when n_spec > 0) and the roll and steer torques.
+   The Fourier coefficients are stored harmonic by harmonic (four_re[n * m + i] for signal i of
+   m = n_spec / 3), so that the loop over the signals runs on contiguous memory and vectorises;
+   s is restrict (it never overlaps the coefficients). Each signal sums its terms in the order
+   n = 0, 1, ... */
+static void pedal_forcing(const forcing_t *fc, double t, double *restrict s, double *tr,
+                          double *ts) {
     *tr = 0.0; *ts = 0.0;
     for (int k = 0; k < fc->n_harm; k++) {
         double c = cos(fc->harm_w[k] * t), sn = sin(fc->harm_w[k] * t);
@@ -27,17 +32,18 @@ static void pedal_forcing(const forcing_t *fc, double t, double *s, double *tr, 
     }
     int m = fc->n_spec / 3;
     if (m <= 0) return;
-    for (int i = 0; i < m; i++) { s[i] = fc->slope[i] * t; s[m + i] = fc->slope[i]; s[2 * m + i] = 0.0; }
+    double *restrict pos = s, *restrict vel = s + m, *restrict acc = s + 2 * m;
+    for (int i = 0; i < m; i++) { pos[i] = fc->slope[i] * t; vel[i] = fc->slope[i]; acc[i] = 0.0; }
     double c1 = cos(fc->omega * t), s1 = sin(fc->omega * t), c = 1.0, sn = 0.0;
     for (int n = 0; n < fc->n_four; n++) {
         double wn = n * fc->omega;
         if (n > 0) { double cn = c * c1 - sn * s1; sn = sn * c1 + c * s1; c = cn; }
+        const double *restrict re = fc->four_re + n * m, *restrict im = fc->four_im + n * m;
         for (int i = 0; i < m; i++) {
-            double re = fc->four_re[i * fc->n_four + n], im = fc->four_im[i * fc->n_four + n];
-            double val = re * c - im * sn;              /* Re(coef e^{i wn t}) */
-            s[i] += val;
-            s[m + i] += -wn * (re * sn + im * c);       /* Re(i wn coef e^{...}) */
-            s[2 * m + i] += -wn * wn * val;
+            double val = re[i] * c - im[i] * sn;        /* Re(coef e^{i wn t}) */
+            pos[i] += val;
+            vel[i] += -wn * (re[i] * sn + im[i] * c);   /* Re(i wn coef e^{...}) */
+            acc[i] += -wn * wn * val;
         }
     }
 }

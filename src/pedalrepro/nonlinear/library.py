@@ -1,10 +1,11 @@
 """The compiled right-hand side of a non-linear model, with the integrator compiled in.
 
 One shared library per model variant: the generated C of :func:`.codegen.generated_c`, the
-hand-written driver ``rhs_driver.c`` (dependent speeds from ``A u = 0``, the 13 x 13 Lagrange
-system, the forcing) and the integrator ``pedalrepro/integrator/dopri.c``. Its name hashes that
-whole source (:func:`pedalrepro.integrator.build.build`), so editing the hand-written C only
-recompiles (seconds) and never re-derives. Called through ctypes.
+hand-written driver ``rhs_driver.c`` (dependent speeds from ``A u = 0``, Kane's equations
+reduced to the independent accelerations, the forcing) and the integrator
+``pedalrepro/integrator/dopri.c``. Its name hashes that whole source
+(:func:`pedalrepro.integrator.build.build`), so editing the hand-written C only recompiles
+(seconds) and never re-derives. Called through ctypes.
 """
 
 from __future__ import annotations

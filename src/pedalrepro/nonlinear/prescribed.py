@@ -26,6 +26,12 @@ class FourierSpec:
         acc = (self.coef @ (-(wn**2) * e)).real
         return np.concatenate([pos, vel, acc])
 
+    def harmonic_major(self) -> tuple[np.ndarray, np.ndarray]:
+        """Real and imaginary parts of ``coef`` stored harmonic by harmonic (``[n, i]``,
+        C-contiguous): the layout of ``four_re``/``four_im`` in ``forcing.c``, whose loop over
+        the signals then runs on contiguous memory."""
+        return (np.ascontiguousarray(self.coef.real.T), np.ascontiguousarray(self.coef.imag.T))
+
     @classmethod
     def from_samples(cls, omega_rad_s: float, signals: np.ndarray, slope: np.ndarray,
                      harmonics: int) -> FourierSpec:

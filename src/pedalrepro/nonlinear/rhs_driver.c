@@ -1,29 +1,43 @@
 /* Hand-written part of the compiled right-hand side (pedalrepro.nonlinear.codegen):
-   dependent speeds from A u = 0, then Kane's equations with Lagrange multipliers. */
+   dependent speeds from A u = 0, then Kane's equations reduced to the three independent speeds
+   (the null-space form of the Lagrange-multiplier system [M A^T; A 0] [u'; lam] = [F; -b]:
+   with u_dep = C u_ind, C = -A_dep^-1 A_ind, the accelerations u' = B u'_ind + e, B = [I; C],
+   e = [0; -A_dep^-1 b], satisfy (B^T M B) u'_ind = B^T (F - M e), since A B = 0). One LU
+   factorisation of A_dep serves the speeds and the accelerations; the reduced system is 3 x 3
+   instead of 13 x 13. The Python reference (NonlinearModel.accelerations) solves the 13 x 13
+   system: the two agree to rounding (tests/test_nonlinear.py). */
 
-static int solve_dense(int n, double *a, double *b) {
-    /* Gaussian elimination with partial pivoting, a (n x n row-major) and b overwritten. */
+static int lu_factor(int n, double *restrict a, int *restrict piv) {
+    /* a = P L U with partial pivoting, in place (row-major n x n; L unit lower, below the
+       diagonal); piv[k]: the row swapped with row k. Returns 1 for a singular matrix. */
     for (int k = 0; k < n; k++) {
-        int piv = k; double best = fabs(a[k * n + k]);
-        for (int i = k + 1; i < n; i++) { double v = fabs(a[i * n + k]); if (v > best) { best = v; piv = i; } }
+        int pk = k; double best = fabs(a[k * n + k]);
+        for (int i = k + 1; i < n; i++) { double v = fabs(a[i * n + k]); if (v > best) { best = v; pk = i; } }
         if (best == 0.0) return 1;
-        if (piv != k) {
-            for (int j = 0; j < n; j++) { double tmp = a[k * n + j]; a[k * n + j] = a[piv * n + j]; a[piv * n + j] = tmp; }
-            double tmp = b[k]; b[k] = b[piv]; b[piv] = tmp;
-        }
+        piv[k] = pk;
+        if (pk != k)
+            for (int j = 0; j < n; j++) { double tmp = a[k * n + j]; a[k * n + j] = a[pk * n + j]; a[pk * n + j] = tmp; }
         for (int i = k + 1; i < n; i++) {
             double f = a[i * n + k] / a[k * n + k];
-            if (f == 0.0) continue;
-            for (int j = k; j < n; j++) a[i * n + j] -= f * a[k * n + j];
-            b[i] -= f * b[k];
+            a[i * n + k] = f;
+            for (int j = k + 1; j < n; j++) a[i * n + j] -= f * a[k * n + j];
         }
     }
+    return 0;
+}
+
+static void lu_solve(int n, const double *restrict lu, const int *restrict piv, double *restrict b) {
+    /* Solve (P L U) x = b in place with the factors of lu_factor: every row swap first (the
+       factor swapped whole rows, multipliers included), then L and U. */
+    for (int k = 0; k < n; k++)
+        if (piv[k] != k) { double tmp = b[k]; b[k] = b[piv[k]]; b[piv[k]] = tmp; }
+    for (int k = 0; k < n; k++)
+        for (int i = k + 1; i < n; i++) b[i] -= lu[i * n + k] * b[k];
     for (int i = n - 1; i >= 0; i--) {
         double acc = b[i];
-        for (int j = i + 1; j < n; j++) acc -= a[i * n + j] * b[j];
-        b[i] = acc / a[i * n + i];
+        for (int j = i + 1; j < n; j++) acc -= lu[i * n + j] * b[j];
+        b[i] = acc / lu[i * n + i];
     }
-    return 0;
 }
 
 static const int U_IND[3] = {3, 5, 6};
@@ -36,27 +50,57 @@ int full_rhs(const double *x, const double *p, const double *s, double t_roll, d
     q[3] = x[0]; q[4] = x[1]; q[6] = x[2];
     u[3] = x[3]; u[5] = x[4]; u[6] = x[5];
     constraint_matrix(q, p, A);
-    double Ad[25], rhs[5];
-    for (int i = 0; i < 5; i++) {
-        rhs[i] = 0.0;
-        for (int k = 0; k < 3; k++) rhs[i] -= A[i * 8 + U_IND[k]] * u[U_IND[k]];
+    double Ad[25], C[15], col[5];
+    int piv[5];
+    for (int i = 0; i < 5; i++)
         for (int j = 0; j < 5; j++) Ad[i * 5 + j] = A[i * 8 + U_DEP[j]];
+    if (lu_factor(5, Ad, piv)) return 1;
+    for (int k = 0; k < 3; k++) {                       /* C = -A_dep^-1 A_ind */
+        for (int i = 0; i < 5; i++) col[i] = -A[i * 8 + U_IND[k]];
+        lu_solve(5, Ad, piv, col);
+        for (int i = 0; i < 5; i++) C[i * 3 + k] = col[i];
     }
-    if (solve_dense(5, Ad, rhs)) return 1;
-    for (int j = 0; j < 5; j++) u[U_DEP[j]] = rhs[j];
+    for (int j = 0; j < 5; j++) {
+        double acc = 0.0;
+        for (int k = 0; k < 3; k++) acc += C[j * 3 + k] * u[U_IND[k]];
+        u[U_DEP[j]] = acc;
+    }
     dynamics(q, u, p, s, M, F, b);
     F[3] += t_roll; F[6] += t_steer;
-    double K[169], r[13];
-    for (int i = 0; i < 13; i++) for (int j = 0; j < 13; j++) K[i * 13 + j] = 0.0;
-    for (int i = 0; i < 8; i++) {
-        for (int j = 0; j < 8; j++) K[i * 13 + j] = M[i * 8 + j];
-        for (int j = 0; j < 5; j++) { K[i * 13 + 8 + j] = A[j * 8 + i]; K[(8 + j) * 13 + i] = A[j * 8 + i]; }
-        r[i] = F[i];
+    double B[24] = {0}, e[8] = {0}, d[5];
+    for (int i = 0; i < 5; i++) d[i] = -b[i];
+    lu_solve(5, Ad, piv, d);                            /* u'_dep = C u'_ind + d */
+    for (int k = 0; k < 3; k++) B[U_IND[k] * 3 + k] = 1.0;
+    for (int j = 0; j < 5; j++) {
+        for (int k = 0; k < 3; k++) B[U_DEP[j] * 3 + k] = C[j * 3 + k];
+        e[U_DEP[j]] = d[j];
     }
-    for (int j = 0; j < 5; j++) r[8 + j] = -b[j];
-    if (solve_dense(13, K, r)) return 2;
+    double MB[24], g[8], R[9], r[3];
+    for (int i = 0; i < 8; i++) {
+        double m0 = 0.0, m1 = 0.0, m2 = 0.0, me = 0.0;
+        for (int j = 0; j < 8; j++) {
+            double mij = M[i * 8 + j];
+            m0 += mij * B[j * 3]; m1 += mij * B[j * 3 + 1]; m2 += mij * B[j * 3 + 2];
+            me += mij * e[j];
+        }
+        MB[i * 3] = m0; MB[i * 3 + 1] = m1; MB[i * 3 + 2] = m2;
+        g[i] = F[i] - me;
+    }
+    for (int k = 0; k < 3; k++) {
+        for (int l = 0; l < 3; l++) {
+            double acc = 0.0;
+            for (int i = 0; i < 8; i++) acc += B[i * 3 + k] * MB[i * 3 + l];
+            R[k * 3 + l] = acc;
+        }
+        double acc = 0.0;
+        for (int i = 0; i < 8; i++) acc += B[i * 3 + k] * g[i];
+        r[k] = acc;
+    }
+    int piv3[3];
+    if (lu_factor(3, R, piv3)) return 2;
+    lu_solve(3, R, piv3, r);
     dx[0] = u[3]; dx[1] = u[4]; dx[2] = u[6];
-    dx[3] = r[3]; dx[4] = r[5]; dx[5] = r[6];
+    dx[3] = r[0]; dx[4] = r[1]; dx[5] = r[2];
     if (u_out) for (int i = 0; i < 8; i++) u_out[i] = u[i];
     for (int i = 0; i < 6; i++) if (!isfinite(dx[i])) return 3;
     return 0;

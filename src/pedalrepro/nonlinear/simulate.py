@@ -107,7 +107,7 @@ class ForcedModel:
             spec = self.model.spec
             fc.n_spec, fc.n_four, fc.omega = self.model.n_spec, spec.coef.shape[1], \
                 spec.omega_rad_s
-            fc.four_re, fc.four_im = ptr(spec.coef.real), ptr(spec.coef.imag)
+            fc.four_re, fc.four_im = (ptr(a) for a in spec.harmonic_major())
             fc.slope = ptr(spec.slope)
         fc.p = ptr(self.model.p_array)
         fn = ctypes.cast(lib.forced_rhs, ctypes.c_void_p).value
