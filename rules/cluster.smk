@@ -16,6 +16,7 @@ CLUSTER_LOCAL_RULES = sorted(
         "mathjax",  # copies node_modules into book/ (source tree)
         "write_config",  # the config copy the notebooks read (rules/book.smk)
         "nonlinear_codegen",  # cat of the four variant stamps
+        "nonlinear_time",  # joins the sweep chunks (reads only, under 1 s)
         "mocap_runs",  # downloads the treadmill data (compute nodes often have no network)
         "section2_table_d_1",
         "section2_numbers",
