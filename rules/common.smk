@@ -101,10 +101,7 @@ def longest_first(name, fallback=lambda wildcards: 0.0):
     time). Only the order changes, never an output."""
 
     def priority(wildcards):
-        try:
-            last = Path(bench(name.format(**wildcards))).read_text().splitlines()[-1]
-            return float(last.split("\t")[0])
-        except (OSError, IndexError, ValueError):
-            return float(fallback(wildcards))
+        last = _paths.last_runtime_s(bench(name.format(**wildcards)))
+        return float(fallback(wildcards)) if last is None else last
 
     return priority

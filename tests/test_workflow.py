@@ -147,3 +147,19 @@ def test_snakemake_lint_clean_apart_from_environment_notice():
     other = [line for line in lints if line.rstrip(":") != ALLOWED_LINT.rstrip(":")]
     assert not other, f"snakemake --lint:\n{out}"
     assert "Traceback" not in out and "Error" not in out.split("Lints for")[0], out
+
+
+def test_benchmark_files_give_the_longest_first_priorities(quick_workflow, tmp_path):
+    """``paths.last_runtime_s`` (the rules' ``longest_first`` priority) reads Snakemake's own
+    benchmark files: every NT/NP sweep job of the quick run has one with a wall time between 0
+    and the whole run's; a missing, empty or garbled file gives None (the rule's fallback)."""
+    assert quick_workflow.returncode == 0
+    files = sorted((quick_workflow.results / "benchmarks").glob("nonlinear_time_N*_*_0.tsv"))
+    assert len(files) == 8  # NT and NP of HS, CF, HR, CR, 1 chunk (config/quick.yaml)
+    seconds = [paths.last_runtime_s(f) for f in files]
+    assert all(s is not None and 0 < s < quick_workflow.elapsed_s for s in seconds), seconds
+    garbled = tmp_path / "garbled.tsv"
+    for text in ("", "s\th:m:s\n", "s\th:m:s\nabc\t0:00:01\n", "-1\t0:00:00\n"):
+        garbled.write_text(text)
+        assert paths.last_runtime_s(garbled) is None, text
+    assert paths.last_runtime_s(tmp_path / "missing.tsv") is None

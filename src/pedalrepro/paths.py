@@ -105,3 +105,14 @@ def log(name: str, root: str | Path | None = None) -> Path:
 def benchmark(name: str, root: str | Path | None = None) -> Path:
     """Path ``results/benchmarks/<name>.tsv``."""
     return benchmarks(root) / f"{name}.tsv"
+
+
+def last_runtime_s(path: str | Path) -> float | None:
+    """Wall time (s) of the last run recorded in a Snakemake benchmark file (first column of its
+    last line), or None when there is no such file or it holds no number (the rules'
+    ``longest_first`` priority, rules/common.smk)."""
+    try:
+        seconds = float(Path(path).read_text().splitlines()[-1].split("\t")[0])
+    except (OSError, IndexError, ValueError):
+        return None
+    return seconds if seconds >= 0 else None
