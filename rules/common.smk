@@ -96,9 +96,8 @@ def longest_first(name, fallback=lambda wildcards: 0.0):
     """A rule's ``priority:``: the seconds its job took last time (the first column of its
     benchmark file ``bench(name)``, wildcards filled in), ``fallback(wildcards)`` for a job not
     run here yet. Snakemake starts the job of highest priority first, so long jobs no longer
-    start last and leave the other cores idle (longest-processing-time-first: with -j2 the
-    thesis-grid NT/NP sweeps are 8 jobs of 8-75 s; one 63 s job started last cost ~40 s of wall
-    time). Only the order changes, never an output."""
+    start last and leave the other cores idle (longest-processing-time-first; the job times
+    are in results/benchmarks). Only the order changes, never an output."""
 
     def priority(wildcards):
         last = _paths.last_runtime_s(bench(name.format(**wildcards)))

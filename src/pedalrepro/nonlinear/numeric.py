@@ -15,7 +15,7 @@ Meijaard et al. (2007) and the generalised pedalling torques of Eq 3.14.
 
 The Python reference (:meth:`NonlinearModel.rhs_python`) solves this 13 x 13 system; the
 compiled right-hand side (``rhs_driver.c``) solves its null-space form, the 3 x 3 system of the
-independent accelerations (same solution, to rounding; about 10 % less time per NP run).
+independent accelerations (same solution, to rounding, in less time: scripts/bench_nonlinear.py).
 """
 
 from __future__ import annotations
