@@ -86,4 +86,5 @@ def test_report_check_and_nan_rejected(tmp_path):
     path = tmp_path / "part.csv"
     report.write_rows([row], path)
     df = report.combine([path], tmp_path / "all.csv")
-    assert report.summary(df) == {"reproduced": 1, "differs": 0, "not reproducible here": 0}
+    assert report.summary(df) == {"reproduced": 1, "consistent": 0, "calibrated": 0,
+                                  "differs": 0, "not reproducible here": 0}

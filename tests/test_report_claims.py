@@ -34,21 +34,36 @@ def claim(kind: str, value: str | None = "meijaard2007.yaml:weave_speed_m_s", **
          "4.29238"),
         ({"kind": "rounds_to", "decimals": 2}, WEAVE + 0.0051, report.DIFFERS, "abs 0.005",
          "4.29238"),
-        # range with a scalar: 0 .. p
-        ({"kind": "range"}, 4.0, report.REPRODUCED, "inside the published range",
+        # a passing loose check is only consistent: abs wider than 10 % of p, relative 0.5
+        ({"kind": "abs", "tol": 0.5}, WEAVE + 0.4, report.CONSISTENT, "abs 0.5", "4.29238"),
+        ({"kind": "relative", "tol": 0.5}, WEAVE * 0.51, report.CONSISTENT, "rel 0.5",
+         "4.29238"),
+        ({"kind": "relative", "tol": 0.5}, WEAVE * 0.49, report.DIFFERS, "rel 0.5", "4.29238"),
+        # 10 % is the largest tolerance that still reproduces (relative and abs alike)
+        ({"kind": "abs", "tol": 0.42}, WEAVE + 0.4, report.REPRODUCED, "abs 0.42", "4.29238"),
+        ({"kind": "abs", "tol": 0.43}, WEAVE + 0.4, report.CONSISTENT, "abs 0.43", "4.29238"),
+        # max_difference: a bound on the difference from published numbers
+        ({"kind": "max_difference", "limit": 1e-9}, 1e-9, report.REPRODUCED,
+         "max difference 1e-09", "4.29238"),
+        ({"kind": "max_difference", "limit": 1e-9}, 2e-9, report.DIFFERS, "max difference 1e-09",
+         "4.29238"),
+        ({"kind": "max_difference", "limit": 0.2}, 0.1, report.CONSISTENT,
+         "max difference 0.2", "4.29238"),
+        # range with a scalar: 0 .. p (a range is never more than consistent)
+        ({"kind": "range"}, 4.0, report.CONSISTENT, "inside the published range",
          "up to 4.29238 %"),
         ({"kind": "range"}, 4.3, report.DIFFERS, "inside the published range", "up to 4.29238 %"),
         # order of magnitude: p/10 .. 10 p
-        ({"kind": "order_of_magnitude"}, 0.43, report.REPRODUCED,
+        ({"kind": "order_of_magnitude"}, 0.43, report.CONSISTENT,
          "same order of magnitude (x/10 .. x10)", "~4.29238 %"),
         ({"kind": "order_of_magnitude"}, 0.42, report.DIFFERS,
          "same order of magnitude (x/10 .. x10)", "~4.29238 %"),
-        # below / above / at_most: strict and inclusive bounds
+        # below / above / at_most: strict and inclusive bounds, one-sided: consistent at best
         ({"kind": "below"}, WEAVE, report.DIFFERS, "below", "< 4.29238 %"),
-        ({"kind": "below"}, 4.29, report.REPRODUCED, "below", "< 4.29238 %"),
+        ({"kind": "below"}, 4.29, report.CONSISTENT, "below", "< 4.29238 %"),
         ({"kind": "above"}, WEAVE, report.DIFFERS, "above", "> 4.29238 %"),
-        ({"kind": "above", "limit": 1.0}, 1.5, report.REPRODUCED, "above", "> 1 %"),
-        ({"kind": "at_most", "limit": 1e-9}, 1e-9, report.REPRODUCED, "at most", "<= 1e-09 %"),
+        ({"kind": "above", "limit": 1.0}, 1.5, report.CONSISTENT, "above", "> 1 %"),
+        ({"kind": "at_most", "limit": 1e-9}, 1e-9, report.CONSISTENT, "at most", "<= 1e-09 %"),
         ({"kind": "at_most", "limit": 1e-9}, 1.1e-9, report.DIFFERS, "at most", "<= 1e-09 %"),
     ],
 )
@@ -73,18 +88,19 @@ def test_range_from_a_published_pair_and_qualitative_kinds():
     rd = report.claim("rd_2b.{model}.{coord}")  # published 1e-5 .. 1e-3 %
     row = report.check(rd, 1e-4, model="HS", coord="roll")
     assert (row.id, row.published, row.status) == ("rd_2b.HS.roll", "1e-05-0.001 %",
-                                                   report.REPRODUCED)
+                                                   report.CONSISTENT)
     assert report.check(rd, 2e-3, model="HS", coord="roll").status == report.DIFFERS
-    eq = report.claim("self_stable_range_exists")
-    assert report.check(eq, "HS yes, CF no, HR yes, CR yes").status == report.REPRODUCED
+    eq = report.claim("self_stable_range_exists")  # a statement in words: consistent
+    assert report.check(eq, "HS yes, CF no, HR yes, CR yes").status == report.CONSISTENT
     assert report.check(eq, "HS yes, CF yes, HR yes, CR yes").status == report.DIFFERS
     holds = report.claim("nonlinear.cf_original_seat")
-    assert report.check(holds, True, shown="x").status == report.REPRODUCED
+    assert report.check(holds, True, shown="x").status == report.CONSISTENT
     assert report.check(holds, False, shown="x").status == report.DIFFERS
     with pytest.raises(ValueError, match="bool"):
         report.check(holds, 1.0)
-    hs = report.claim("nonlinear.hs_arm_loops")
-    assert report.check(hs, True, shown="built").status == report.REPRODUCED
+    hs = report.claim("nonlinear.hs_arm_loops")  # the model exists: a calibration, not evidence
+    assert report.check(hs, True, shown="built").status == report.CALIBRATED
+    assert report.check(hs, False, shown="not built").status == report.DIFFERS
     # a claim the thesis's means cannot check here (no entry of claims.yaml needs it today)
     fixed = report.check(dataclasses.replace(hs, check={"kind": "not_reproducible"}), None,
                          shown="substitute", note="why")
@@ -115,14 +131,48 @@ def test_bad_values_and_claims_are_named():
 
 def test_claims_file_is_validated(tmp_path):
     bad = tmp_path / "claims.yaml"
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, check: {kind: roughly}, "
+    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: w, check: {kind: roughly}, "
                    "published_text: x}\n")
     with pytest.raises(ValueError, match="'roughly'"):
         report.claims(bad)
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, check: {kind: abs}, value: "
-                   "'meijaard2007.yaml:weave_speed_m_s'}\n")
+    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: w, check: {kind: abs}, "
+                   "value: 'meijaard2007.yaml:weave_speed_m_s'}\n")
     with pytest.raises(ValueError, match="needs \\['tol'\\]"):
         report.claims(bad)
+    # every claim quotes the thesis wording its check comes from
+    bad.write_text("claims:\n- {id: a, section: '1', item: a, check: {kind: equals}, "
+                   "published_text: x}\n")
+    with pytest.raises(ValueError, match="missing \\['wording'\\]"):
+        report.claims(bad)
+    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: ' ', "
+                   "check: {kind: equals}, published_text: x}\n")
+    with pytest.raises(ValueError, match="wording"):
+        report.claims(bad)
+
+
+def test_every_claim_quotes_the_thesis_and_loose_kinds_are_never_reproduced():
+    """claims.yaml: each wording names its thesis line; no check that a value 2x off would pass
+    can give "reproduced" (the precise-kind test of each claim's check)."""
+    for cid, c in report.claims().items():
+        assert re.search(r"thesis line \d+", c.wording), cid
+    loose = {"range", "order_of_magnitude", "below", "above", "at_most", "holds"}
+    ctx_pub = 4.0
+    for kind in loose:
+        k = report.KINDS[kind]
+        ctx = report.claims_module.Context("x", [1.0, 8.0] if kind == "range" else ctx_pub,
+                                           {"kind": kind, "limit": 5.0, "describe": "d"})
+        assert not k.precise(ctx), kind
+
+
+def test_calibrated_claims_and_callers():
+    for model in ("HS", "CF", "HR", "CR"):
+        row = report.check("nonlinear.appendix_b.{model}", 1e-9, model=model, body="frame",
+                           shown="x")
+        assert row.status == report.CALIBRATED and "Calibrated:" in row.note
+    # a caller's sensitivity run: a passing row that fails with its input moved
+    row = report.check("nrmsd_com_z", 3.64, calibrated="holds only at the chosen input")
+    assert row.status == report.CALIBRATED and row.note.endswith("chosen input")
+    assert report.check("nrmsd_com_z", 3.7, calibrated="x").status == report.DIFFERS
 
 
 def test_published_values_resolve_through_ids():
