@@ -124,7 +124,8 @@ rule linear_table_4_1:
         code=code_inputs("scripts/linear_table_4_1.py"),
         runs="data/parameters/validation_runs.yaml",
     output:
-        table("table_4_1_model"),
+        table=table("table_4_1_model"),
+        moved=table("table_4_1_model_moved_inputs"),
     params:
         harmonics=HARMONICS,
     log:
@@ -141,9 +142,11 @@ rule linear_report:
         eigen=table("eigen_summary"),
         rd=table("rd_summary"),
         table_4_1=table("table_4_1_model"),
+        table_4_1_moved=table("table_4_1_model_moved_inputs"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
     output:
-        f"{R}/tables/report/linear.csv",
+        report=f"{R}/tables/report/linear.csv",
+        sensitivity=table("sensitivity"),
     params:
         models=LINEAR_MODELS,
         profile=config["profile"],
@@ -162,6 +165,7 @@ rule linear_report:
 REPORT_PARTS.append(f"{R}/tables/report/linear.csv")
 BOOK_INPUTS.extend(
     [table("eigen_summary"), table("table_4_1_model"), table("rd_summary")]
+    + [table("sensitivity"), table("table_4_1_model_moved_inputs")]
     + expand(interm("ps/{model}.npz"), model=LINEAR_MODELS)
     + expand(interm("eigen/{model}.npz"), model=LINEAR_MODELS)
 )

@@ -53,8 +53,8 @@ MODEL_PAIRS: dict[str, tuple[tuple[str, str], ...]] = {
     "6": (("HR", "CR"),),
 }
 #: Diagonal step of the time grid and the indices of the six example points.
-_DIAGONAL_SPEED_STEP_M_S = 0.4
-_DIAGONAL_OMEGA_STEP_RAD_S = 0.5
+DIAGONAL_SPEED_STEP_M_S = 0.4
+DIAGONAL_OMEGA_STEP_RAD_S = 0.5
 _EXAMPLE_INDICES = (8, 11, 14, 17, 20, 23)
 
 
@@ -86,9 +86,9 @@ def example_points(model: str) -> ExamplePoints:
         ``"benchmark"``, ``"HS"``, ``"CF"``, ``"HR"`` or ``"CR"`` (sets the wheel radius of GR).
     """
     idx = np.asarray(_EXAMPLE_INDICES, float)
-    v = idx * _DIAGONAL_SPEED_STEP_M_S
-    w = idx * _DIAGONAL_OMEGA_STEP_RAD_S
-    gr = float(_DIAGONAL_SPEED_STEP_M_S / _DIAGONAL_OMEGA_STEP_RAD_S
+    v = idx * DIAGONAL_SPEED_STEP_M_S
+    w = idx * DIAGONAL_OMEGA_STEP_RAD_S
+    gr = float(DIAGONAL_SPEED_STEP_M_S / DIAGONAL_OMEGA_STEP_RAD_S
                / gears.wheel_radius_m(linear.bicycle_of(model)))
     return ExamplePoints(v, w, gr, float(v[2]), w[::-1].copy())
 
