@@ -10,7 +10,7 @@ import os
 import shutil
 from pathlib import Path
 
-import pytest
+from required import REAL, skip_unless_required
 
 from pedalrepro import paths
 
@@ -32,8 +32,8 @@ SHARED_REAL = Path(os.environ.get("PEDALREPRO_REAL_SUBSET_DIR") or
 def copy_real_subset(dest: Path) -> Path:
     """A copy of the public subset in ``dest`` (skips with the reason when it is absent)."""
     if not SHARED_REAL.is_dir():
-        pytest.skip(f"real subset not found at {SHARED_REAL} (the folder 'shared' beside the "
-                    "repository); CI provides it")
+        skip_unless_required(REAL, f"real subset not found at {SHARED_REAL} (the folder "
+                             "'shared' beside the repository); CI provides it")
     dest.mkdir(parents=True, exist_ok=True)
     for p in SHARED_REAL.iterdir():
         if p.suffix in (".xlsx", ".csv"):

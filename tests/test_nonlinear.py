@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import yaml
+from required import CC, skip_unless_required
 
 from pedalrepro import params, paths
 from pedalrepro.nonlinear import codegen, model
@@ -82,7 +83,7 @@ def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, m
     options = model.ModelOptions()
     key, so = codegen.cache_key(options), library.compiled_library(options)
     if so is None:
-        pytest.skip("no C compiler")
+        skip_unless_required(CC, "no C compiler")
     edited = tmp_path / "rhs_driver.c"
     edited.write_text(library.RHS_DRIVER_C.read_text() + "\n/* an edit */\n")
 
@@ -110,7 +111,7 @@ def test_compiled_rhs_equals_generated_python(name, options, steer):
     nl = models.np_model(name, 2.0 * np.pi)
     assert nl.options == options
     if nl.lib is None:
-        pytest.skip("no C compiler: only the Python path exists")
+        skip_unless_required(CC, "no C compiler: only the Python path exists")
     x = np.array([0.1, nl.nominal_pitch_rad, steer, 0.3, -12.0, -0.2])
     np.testing.assert_allclose(nl.rhs(0.3, x, (1.0, 0.2)), nl.rhs_python(0.3, x, (1.0, 0.2)),
                                rtol=1e-10, atol=1e-12)

@@ -7,6 +7,7 @@ import types
 
 import numpy as np
 import pytest
+from required import CC, skip_unless_required
 
 from pedalrepro.integrator import (
     LinearSystem,
@@ -28,7 +29,7 @@ def _inverted(a: float = 4.0) -> LinearSystem:
 def test_fall_event_stops_and_keeps_the_simulated_part(compiled, variant):
     system = _inverted()
     if compiled and system.compiled() is None:
-        pytest.skip("no C compiler")
+        skip_unless_required(CC, "no C compiler")
     t = np.arange(1001) / 100.0
     sim = integrate(system, np.array([1e-3, 0.0]), t, rtol=1e-10, atol=1e-12,
                     fall_roll_rad=1.0, compiled=compiled, variant=variant)
@@ -90,7 +91,7 @@ def test_compiled_run_equals_solve_ivp_rk45():
 
     nl = models.nt_model("HR")
     if nl.lib is None:
-        pytest.skip("no C compiler")
+        skip_unless_required(CC, "no C compiler")
     h = response.forcing("HR", None)
     kw = dict(harmonics=h, omega_rad_s=6.0, rtol=1e-8, atol=1e-10)
     ref = simulate(nl, 6.0, 20.0, 50.0, compiled=False, **kw)

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from required import REAL, required
 
 from pedalrepro import paths, report
 
@@ -82,6 +83,10 @@ def test_report_statuses_are_pinned(quick_workflow):
     rep = pd.read_csv(path, dtype=str, keep_default_na=False)
     expected = report.expected_status()
     if not has_real_subset():
+        if required(REAL):  # CI: the six REAL rows must be there, never dropped
+            pytest.fail(f"${DATA_DIR_ENV} does not hold the public subset ({REAL}=1): the "
+                        f"{REAL_ROW_PREFIX}* rows pinned in {report.EXPECTED_STATUS_FILE} "
+                        "cannot be checked")
         # The REAL rows (run 3045 vs Table 4.1, claims table_4_1.real_run_*) exist only when the
         # data folder holds the public subset, as in CI (.ci/run copies ../shared into
         # PEDALREPRO_DATA_DIR), where they are pinned like every other row. Without the subset
