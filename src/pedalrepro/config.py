@@ -7,17 +7,19 @@ Validation has two layers, both run at workflow start (``rules/common.smk``) and
 2. :func:`check`: what a JSON schema cannot say -- no NaN or infinity (YAML's ``.nan`` and
    ``.inf`` are numbers to a JSON schema), sample rates above twice the highest frequency they
    must resolve (Nyquist), grid steps below their maxima, and a results folder that is not a
-   system folder. Every failure names its key.
+   system folder and holds no file of the repository. Every failure names its key.
 
-The workflow writes the configuration in effect to ``<results>/config.yaml`` (rule
-``write_config``); notebooks read that copy with :func:`results_config`, so a quick build shows
-the quick profile's values.
+The workflow writes the configuration in effect to ``<results>/config.used.yaml``
+(:data:`COPY_NAME`, rule ``write_config``; a name no source file has, so no results folder can
+make it overwrite ``config/config.yaml``); notebooks read that copy with
+:func:`results_config`, so a quick build shows the quick profile's values.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import subprocess
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -33,6 +35,17 @@ DATA_FILES = ("config/schema.yaml",)
 SYSTEM_ROOTS: tuple[str, ...] = ("/", "/bin", "/boot", "/dev", "/etc", "/home", "/lib",
                                  "/lib64", "/opt", "/proc", "/root", "/run", "/sbin", "/srv",
                                  "/sys", "/tmp", "/usr", "/var")
+#: File name of the configuration in effect inside the results folder (rule write_config). No
+#: source file has this name: ``results_dir: config`` can never overwrite config/config.yaml.
+COPY_NAME = "config.used.yaml"
+#: Top-level entries of the repository that are sources (tracked by git), used with those
+#: ``git ls-files`` lists: the results folder may lie neither inside one nor on one. ``.git`` and
+#: ``.snakemake`` (Snakemake's state) are never tracked and never results either.
+SOURCE_ENTRIES: tuple[str, ...] = (".ci", ".git", ".github", ".snakemake", "book", "config",
+                                   "data", "notebooks", "profiles", "rules", "scripts", "src",
+                                   "tests", "CONTRIBUTING.md", "README.md", "Snakefile",
+                                   "environment.lock", "package.json", "package-lock.json",
+                                   "pyproject.toml", "requirements.in", ".gitignore")
 #: (step key, maximum key) pairs of config section ``linear``: each step below its maximum.
 STEP_MAXIMA: tuple[tuple[str, str], ...] = (
     ("ps_omega_step_rad_s", "ps_omega_max_rad_s"), ("ps_speed_step_m_s", "ps_speed_max_m_s"),
@@ -79,19 +92,55 @@ def _numbers(value: Any, key: str = "") -> Iterator[tuple[str, float]]:
         yield key, value
 
 
+def source_entries(root: str | Path = paths.ROOT) -> list[Path]:
+    """The repository's top-level source folders and files (resolved): :data:`SOURCE_ENTRIES`
+    and the first component of every path ``git ls-files`` lists (when ``root`` is a git
+    checkout and git runs; a copy without git keeps the fixed list)."""
+    root = Path(root).resolve()
+    names = set(SOURCE_ENTRIES)
+    try:
+        listed = subprocess.run(["git", "-C", str(root), "ls-files", "-z"], capture_output=True,
+                                text=True, timeout=30, check=True).stdout
+        names |= {f.split("/", 1)[0] for f in listed.split("\0") if f}
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return sorted(root / n for n in names)
+
+
+def source_owner(path: str | Path, root: str | Path = paths.ROOT) -> Path | None:
+    """The source entry of the repository (:func:`source_entries`) that ``path`` (resolved) lies
+    in or on, or ``None``."""
+    path = Path(path).resolve()
+    for entry in source_entries(root):
+        if path == entry or entry in path.parents:
+            return entry
+    return None
+
+
 def check_results_dir(results_dir: str, root: str | Path = paths.ROOT,
                       home: str | Path | None = None) -> Path:
     """The results folder resolved against ``root``; :class:`ConfigError` naming ``results_dir``
-    when it is a system folder (:data:`SYSTEM_ROOTS`), ``$HOME`` itself or the repository
-    root, an existing file, or when its nearest existing parent is not writable."""
+    when it is a system folder (:data:`SYSTEM_ROOTS`), ``$HOME`` itself, the repository root or
+    a folder holding it, inside a source folder or on a source file of the repository
+    (:func:`source_owner`: ``config``, ``src/...``, ``README.md``), an existing file, or when
+    its nearest existing parent is not writable."""
     path = Path(os.path.expanduser(results_dir))
     path = (path if path.is_absolute() else Path(root) / path).resolve()
     home = Path(home if home is not None else os.path.expanduser("~")).resolve()
-    forbidden = {Path(p).resolve() for p in SYSTEM_ROOTS} | {home, Path(root).resolve()}
+    repo = Path(root).resolve()
+    forbidden = {Path(p).resolve() for p in SYSTEM_ROOTS} | {home, repo}
     if path in forbidden:
         raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, a system folder, "
                           "$HOME or the repository root; choose a folder inside one, e.g. "
                           "'results' or '/scratch/<you>/pedalrepro'")
+    if path in repo.parents:
+        raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, which holds the "
+                          f"repository {repo}; choose e.g. 'results'")
+    owner = source_owner(path, repo)
+    if owner is not None:
+        raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, inside or on the "
+                          f"repository's source {owner} (tracked files would be overwritten); "
+                          "choose e.g. 'results' or 'results/<name>'")
     if path.exists() and not path.is_dir():
         raise ConfigError(f"results_dir: {path} exists and is not a folder")
     parent = path
@@ -187,9 +236,16 @@ def merge(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def write(config: Mapping[str, Any], path: str | Path) -> Path:
-    """Write the configuration in effect as YAML (keys in the order given)."""
+def write(config: Mapping[str, Any], path: str | Path, root: str | Path = paths.ROOT) -> Path:
+    """Write the configuration in effect as YAML (keys in the order given).
+
+    Refuses (:class:`ConfigError` naming ``path``) a path inside or on a source of the
+    repository (:func:`source_owner`), whatever results folder reached it."""
     path = Path(path)
+    owner = source_owner(path, root)
+    if owner is not None:
+        raise ConfigError(f"{path}: the configuration copy would be written inside or on the "
+                          f"repository's source {owner}; not written")
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", encoding="utf-8") as fh:
         fh.write("# The configuration this results folder was built with (written by the "
@@ -208,12 +264,13 @@ def _plain(value: Any) -> Any:
 
 
 def results_config(results: str | Path | None = None) -> dict[str, Any]:
-    """The configuration a results folder was built with (``<results>/config.yaml``).
+    """The configuration a results folder was built with (``<results>/config.used.yaml``,
+    :data:`COPY_NAME`).
 
     Notebooks read this copy, never ``config/config.yaml``, so that what they show matches the
     results (quick or thesis profile). ``results`` defaults to :func:`pedalrepro.paths.results`.
     """
-    path = Path(results if results is not None else paths.results()) / "config.yaml"
+    path = Path(results if results is not None else paths.results()) / COPY_NAME
     if not path.is_file():
         raise FileNotFoundError(f"{path} not found: run the workflow (rule write_config) first")
     return read_yaml(path)
