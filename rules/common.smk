@@ -4,13 +4,12 @@
 import os
 from pathlib import Path
 
-from snakemake.utils import validate
-
 from pedalrepro import config as pconfig
 from pedalrepro import dependencies
 
 
-validate(config, "../config/schema.yaml")
+# config/schema.yaml (every error, its key named as linear.harmonics[1]: pedalrepro.config.validate)
+pconfig.validate(config, Path(workflow.basedir) / "config" / "schema.yaml")
 # NaN/inf, sample rate vs low-pass and harmonics (Nyquist), steps below maxima, results_dir (not
 # a system folder, not inside or on a tracked source of the repository):
 # each failure names its key (pedalrepro.config.check).
