@@ -286,3 +286,37 @@ def test_the_shipped_profiles_pass():
     for extra in ((), ("config/quick.yaml",)):
         cfg = config.load(None, *(paths.ROOT / e for e in extra))
         assert cfg["linear"]["harmonics"] == [1, 3, 5]
+
+
+# --------------------------------------------------------------------------------------------
+# Cases that already held before issue 22 (kept so that they keep holding)
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("folder", ["/", "/usr", "/tmp", "~", ".", ""])
+def test_system_folders_home_and_root_are_refused(cfg, folder):
+    cfg["results_dir"] = folder
+    refused(cfg, "results_dir")
+
+
+def test_trailing_slash_is_the_same_folder(cfg):
+    """An equivalent spelling gives the same results folder."""
+    assert config.check_results_dir("results/quick/") == config.check_results_dir("results/quick")
+    assert config.check_results_dir("./results/quick") == config.check_results_dir("results/quick")
+
+
+@pytest.mark.parametrize("section, key, value, fragment", [
+    ("linear", "sample_rate_hz", 1.0, "Nyquist"),
+    ("linear", "rtol", "1e-3", "is not of type 'number'"),
+    ("linear", "models", ["HR", "XX"], "'XX' is not one of"),
+    ("linear", "extra_key", 1, "Additional properties are not allowed"),
+    ("nonlinear", "chunks", 0, "less than the minimum of 1"),
+    ("nonlinear", "method", "Euler", "'Euler' is not one of"),
+    ("mocap", "angle_lowpass_hz", -1.0, "less than the minimum of 0"),
+    ("periodic", "continuation_speed_m_s", [2.0], "is too short"),
+])
+def test_values_outside_the_schema_are_refused(cfg, section, key, value, fragment):
+    cfg[section][key] = value
+    with pytest.raises(config.ConfigError) as info:
+        config.validate(cfg)
+        config.check(cfg)
+    assert section in str(info.value) and fragment in str(info.value), str(info.value)

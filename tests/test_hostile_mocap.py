@@ -152,3 +152,18 @@ def test_lowpass_zero_equals_no_lowpass(tmp_path, hr_mat):
     assert cli.main(["mocap", "extract", str(path), "--out", str(tmp_path / "b.csv"),
                      "--no-lowpass"]) == 0
     assert (tmp_path / "a.csv").read_text() == (tmp_path / "b.csv").read_text()
+
+
+# --- cases that already held ---------------------------------------------------------------
+
+def test_unknown_public_run_number_is_refused(tmp_path, capsys):
+    rc = cli.main(["mocap", "extract", "9999", "--out", str(tmp_path / "o.csv")])
+    assert rc == 2
+    assert "9999" in capsys.readouterr().err
+
+
+def test_file_that_is_no_run_is_refused(tmp_path, capsys):
+    bad = tmp_path / "notes.txt"
+    bad.write_text("hello\n")
+    assert cli.main(["mocap", "extract", str(bad), "--out", str(tmp_path / "o.csv")]) == 2
+    assert "notes.txt" in capsys.readouterr().err

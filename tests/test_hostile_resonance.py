@@ -242,3 +242,15 @@ def test_cli_nan_option_is_refused(folder, capsys):
                    str(folder / "out")])
     assert rc == 2
     assert "seat-tube angle not a finite number" in capsys.readouterr().err
+
+
+# --- cases that already held -------------------------------------------------------------------
+
+def test_missing_folder_bicycle_or_rider_is_named(tmp_path, folder):
+    with pytest.raises(FileNotFoundError, match=str(tmp_path / "nowhere")):
+        own_bicycle.load_bicycle(tmp_path / "nowhere", "Rigid", "Jason")
+    with pytest.raises(FileNotFoundError, match="bicycles found: \\['Rigid'\\]"):
+        own_bicycle.load_bicycle(folder, "Mybike", "Jason")
+    with pytest.raises(FileNotFoundError, match="JasonRigidYeadonCFG.txt|cannot place the rider"):
+        (folder / "riders" / "Jason" / "RawData" / "JasonRigidYeadonCFG.txt").unlink()
+        own_bicycle.load_bicycle(folder, "Rigid", "Jason", seat_height_m=SEAT_M)
