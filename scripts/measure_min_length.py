@@ -37,7 +37,7 @@ def excerpt_errors(run, whole: dict[str, float], length_s: float, step_s: float 
     n = int(round(length_s * fs))
     out = []
     for i0 in range(0, len(run.t_s) - n + 1, int(round(step_s * fs))):
-        part = runs._slice(run, i0, i0 + n)
+        part = runs.excerpt(run, i0, i0 + n)
         try:
             with mock.patch.object(runs, "check_length", lambda r: len(r.t_s) / fs):
                 a = runs.analyse_loaded(part)

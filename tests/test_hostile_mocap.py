@@ -70,7 +70,7 @@ def test_record_of_the_minimum_length_is_analysed(tmp_path, hr_mat):
 def test_short_excerpts_of_3045_are_refused_as_too_short(run3045, length_s, why):
     """The issue's cases: a 3 s excerpt gave roll 0.0169 rad against 0.0118 over 60 s (+43 %)
     as a full analysis; a 1 s one was refused for "no steady cadence"."""
-    part = runs._slice(run3045, 1000, 1000 + int(length_s * 100))
+    part = runs.excerpt(run3045, 1000, 1000 + int(length_s * 100))
     with pytest.raises(runs.RunRefusedError, match=why):
         runs.analyse_loaded(part)
 
@@ -81,7 +81,7 @@ def test_minimum_length_excerpt_of_3045_is_close_to_the_whole_record(run3045):
     whole = runs.analyse_loaded(run3045).amplitudes
     n = int(runs.MIN_SEGMENT_S * 100)
     for i0 in (0, 2000, 4000):
-        a = runs.analyse_loaded(runs._slice(run3045, i0, i0 + n)).amplitudes
+        a = runs.analyse_loaded(runs.excerpt(run3045, i0, i0 + n)).amplitudes
         assert a["roll_amp_rad"] == pytest.approx(whole["roll_amp_rad"], rel=0.105)
         assert a["steer_amp_rad"] == pytest.approx(whole["steer_amp_rad"], rel=0.07)
 

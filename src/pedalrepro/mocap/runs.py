@@ -189,7 +189,8 @@ def usable_segment(valid: np.ndarray, t_s: np.ndarray, max_gap_s: float = MAX_GA
     return int(i0), int(i1), [(float(t_s[a]), float(t_s[b - 1] + dt)) for a, b in long_]
 
 
-def _slice(run: Run, i0: int, i1: int) -> Run:
+def excerpt(run: Run, i0: int, i1: int) -> Run:
+    """Samples ``[i0, i1)`` of a run (a stretch between gaps, or an excerpt to measure with)."""
     return replace(run, t_s=run.t_s[i0:i1], markers_m=run.markers_m[i0:i1],
                    raw_m=run.raw_m[i0:i1], notes=list(run.notes))
 
@@ -302,7 +303,7 @@ def analyse_loaded(run: Run, lowpass_hz: float | None = kinematics.LOWPASS_HZ) -
         notes.append(f"PARTIAL: analysed {run.t_s[i0]:.2f}-{run.t_s[i0] + dur:.2f} s "
                      f"({dur:.1f} of {n / run.sample_rate_hz:.1f} s): gaps longer than "
                      f"{MAX_GAP_S:g} s at {listed} are not interpolated over")
-        run = _slice(run, i0, i1)
+        run = excerpt(run, i0, i1)
         kin = kinematics.extract(run, lowpass_hz=lowpass_hz)
     cad = cadence_mod.detect_cadence(run, kin)
     _check_pedalling(run, kin, cad)
