@@ -4,14 +4,14 @@
 import os
 from pathlib import Path
 
-from snakemake.utils import validate
-
 from pedalrepro import config as pconfig
 from pedalrepro import dependencies
 
 
-validate(config, "../config/schema.yaml")
-# NaN/inf, sample rate vs low-pass and harmonics (Nyquist), steps below maxima, results_dir:
+# config/schema.yaml (every error, its key named as linear.harmonics[1]: pedalrepro.config.validate)
+pconfig.validate(config, Path(workflow.basedir) / "config" / "schema.yaml")
+# NaN/inf, sample rate vs low-pass and harmonics (Nyquist), steps below maxima, results_dir (not
+# a system folder, not inside or on a tracked source of the repository):
 # each failure names its key (pedalrepro.config.check).
 pconfig.check(config)
 
@@ -24,7 +24,7 @@ PKG = "src/pedalrepro"
 ROOT_DIR = Path(workflow.basedir)
 RULES_DIR = Path(workflow.basedir) / "rules"
 #: The configuration in effect, written by rule write_config; notebooks read this copy.
-CONFIG_COPY = f"{R}/config.yaml"
+CONFIG_COPY = f"{R}/{pconfig.COPY_NAME}"
 
 # Filled by the rules/*.smk files: report parts and everything the book shows.
 REPORT_PARTS = []

@@ -1,4 +1,5 @@
-"""Snakemake script: write the configuration in effect to <results>/config.yaml."""
+"""Snakemake script: write the configuration in effect to <results>/config.used.yaml
+(pedalrepro.config.COPY_NAME; config.write refuses a path inside a source of the repository)."""
 
 import json
 import sys

@@ -7,17 +7,19 @@ Validation has two layers, both run at workflow start (``rules/common.smk``) and
 2. :func:`check`: what a JSON schema cannot say -- no NaN or infinity (YAML's ``.nan`` and
    ``.inf`` are numbers to a JSON schema), sample rates above twice the highest frequency they
    must resolve (Nyquist), grid steps below their maxima, and a results folder that is not a
-   system folder. Every failure names its key.
+   system folder and holds no file of the repository. Every failure names its key.
 
-The workflow writes the configuration in effect to ``<results>/config.yaml`` (rule
-``write_config``); notebooks read that copy with :func:`results_config`, so a quick build shows
-the quick profile's values.
+The workflow writes the configuration in effect to ``<results>/config.used.yaml``
+(:data:`COPY_NAME`, rule ``write_config``; a name no source file has, so no results folder can
+make it overwrite ``config/config.yaml``); notebooks read that copy with
+:func:`results_config`, so a quick build shows the quick profile's values.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import subprocess
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -33,12 +35,70 @@ DATA_FILES = ("config/schema.yaml",)
 SYSTEM_ROOTS: tuple[str, ...] = ("/", "/bin", "/boot", "/dev", "/etc", "/home", "/lib",
                                  "/lib64", "/opt", "/proc", "/root", "/run", "/sbin", "/srv",
                                  "/sys", "/tmp", "/usr", "/var")
+#: File name of the configuration in effect inside the results folder (rule write_config). No
+#: source file has this name: ``results_dir: config`` can never overwrite config/config.yaml.
+COPY_NAME = "config.used.yaml"
+#: Top-level entries of the repository that are sources (tracked by git), used with those
+#: ``git ls-files`` lists: the results folder may lie neither inside one nor on one. ``.git`` and
+#: ``.snakemake`` (Snakemake's state) are never tracked and never results either.
+SOURCE_ENTRIES: tuple[str, ...] = (".ci", ".git", ".github", ".snakemake", "book", "config",
+                                   "data", "notebooks", "profiles", "rules", "scripts", "src",
+                                   "tests", "CONTRIBUTING.md", "README.md", "Snakefile",
+                                   "environment.lock", "package.json", "package-lock.json",
+                                   "pyproject.toml", "requirements.in", ".gitignore")
 #: (step key, maximum key) pairs of config section ``linear``: each step below its maximum.
 STEP_MAXIMA: tuple[tuple[str, str], ...] = (
     ("ps_omega_step_rad_s", "ps_omega_max_rad_s"), ("ps_speed_step_m_s", "ps_speed_max_m_s"),
     ("time_omega_step_rad_s", "time_omega_max_rad_s"),
     ("time_speed_step_m_s", "time_speed_max_m_s"),
     ("eigen_speed_step_m_s", "eigen_speed_max_m_s"))
+#: The same for config section ``periodic`` (the finer orbit map).
+PERIODIC_STEP_MAXIMA: tuple[tuple[str, str], ...] = (
+    ("fine_speed_step_m_s", "fine_speed_max_m_s"),
+    ("fine_omega_step_rad_s", "fine_omega_max_rad_s"))
+#: Largest number of points of each grid, ``(section, [(step, maximum), ...], cap, what)``: a
+#: hundred times or more the thesis profile's count (in brackets), so that a mistyped step is
+#: refused at workflow start with the count instead of exhausting memory inside a job
+#: (``eigen_speed_step_m_s: 1e-9`` asked for 1e10 speeds and a 74.5 GiB array).
+GRID_CAPS: tuple[tuple[str, tuple[tuple[str, str], ...], int, str], ...] = (
+    ("linear", (("ps_speed_step_m_s", "ps_speed_max_m_s"),
+                ("ps_omega_step_rad_s", "ps_omega_max_rad_s")), 1_000_000,
+     "particular-solution grid (thesis 10302)"),
+    ("linear", (("time_speed_step_m_s", "time_speed_max_m_s"),
+                ("time_omega_step_rad_s", "time_omega_max_rad_s")), 100_000,
+     "time-solution grid (thesis 676)"),
+    ("linear", (("eigen_speed_step_m_s", "eigen_speed_max_m_s"),), 1_000_000,
+     "eigenvalue speeds (thesis 1001)"),
+    ("periodic", (("fine_speed_step_m_s", "fine_speed_max_m_s"),
+                  ("fine_omega_step_rad_s", "fine_omega_max_rad_s")), 100_000,
+     "finer orbit map (thesis profile 2601)"),
+)
+#: Largest number of samples of one time solution, ``linear.duration_s * sample_rate_hz + 1``
+#: (thesis 18001; the cap is 100 times that).
+MAX_TIME_SAMPLES = 1_800_100
+#: Lists in which each item must be unique (a repeated item changes the science: a repeated
+#: harmonic doubles its torque, a repeated model or method repeats jobs and report rows). Also
+#: ``uniqueItems`` in config/schema.yaml; checked here too so the message names the item.
+UNIQUE_LISTS: tuple[str, ...] = (
+    "linear.harmonics", "linear.models", "linear.gear_ratios", "mocap.stand_in_gear_ratios",
+    "nonlinear.models", "periodic.methods", "periodic.fine_methods",
+    "periodic.continuation_methods", "periodic.continuation_torque_scales")
+#: ``[low, high]`` ranges that must increase.
+INCREASING_RANGES: tuple[str, ...] = (
+    "linear.normal_cycling_speed_kmh", "linear.normal_cycling_cadence_rpm",
+    "periodic.continuation_speed_m_s")
+
+
+def grid_count(step: float, maximum: float) -> float:
+    """Points of ``0:step:maximum`` (:func:`pedalrepro.response.grid`'s count, without numpy;
+    ``inf`` when ``maximum / step`` overflows)."""
+    ratio = maximum / step
+    return math.floor(ratio + 1e-9) + 1 if math.isfinite(ratio) else math.inf
+
+
+def _get(config: Mapping[str, Any], dotted: str) -> Any:
+    section, key = dotted.split(".")
+    return config[section][key]
 
 
 class ConfigError(ValueError):
@@ -61,10 +121,17 @@ def validate(config: dict[str, Any], schema_path: str | Path | None = None) -> d
     validator = jsonschema.Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(config), key=lambda e: list(e.absolute_path))
     if errors:
-        lines = [f"  {'/'.join(map(str, e.absolute_path)) or '<top>'}: {e.message}"
-                 for e in errors]
+        lines = [f"  {_dotted(e.absolute_path) or '<top>'}: {e.message}" for e in errors]
         raise ConfigError("configuration does not match config/schema.yaml:\n" + "\n".join(lines))
     return config
+
+
+def _dotted(path: Any) -> str:
+    """A key path as the messages name it: ``linear.harmonics[1]``."""
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
 
 
 def _numbers(value: Any, key: str = "") -> Iterator[tuple[str, float]]:
@@ -79,19 +146,55 @@ def _numbers(value: Any, key: str = "") -> Iterator[tuple[str, float]]:
         yield key, value
 
 
+def source_entries(root: str | Path = paths.ROOT) -> list[Path]:
+    """The repository's top-level source folders and files (resolved): :data:`SOURCE_ENTRIES`
+    and the first component of every path ``git ls-files`` lists (when ``root`` is a git
+    checkout and git runs; a copy without git keeps the fixed list)."""
+    root = Path(root).resolve()
+    names = set(SOURCE_ENTRIES)
+    try:
+        listed = subprocess.run(["git", "-C", str(root), "ls-files", "-z"], capture_output=True,
+                                text=True, timeout=30, check=True).stdout
+        names |= {f.split("/", 1)[0] for f in listed.split("\0") if f}
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return sorted(root / n for n in names)
+
+
+def source_owner(path: str | Path, root: str | Path = paths.ROOT) -> Path | None:
+    """The source entry of the repository (:func:`source_entries`) that ``path`` (resolved) lies
+    in or on, or ``None``."""
+    path = Path(path).resolve()
+    for entry in source_entries(root):
+        if path == entry or entry in path.parents:
+            return entry
+    return None
+
+
 def check_results_dir(results_dir: str, root: str | Path = paths.ROOT,
                       home: str | Path | None = None) -> Path:
     """The results folder resolved against ``root``; :class:`ConfigError` naming ``results_dir``
-    when it is a system folder (:data:`SYSTEM_ROOTS`), ``$HOME`` itself or the repository
-    root, an existing file, or when its nearest existing parent is not writable."""
+    when it is a system folder (:data:`SYSTEM_ROOTS`), ``$HOME`` itself, the repository root or
+    a folder holding it, inside a source folder or on a source file of the repository
+    (:func:`source_owner`: ``config``, ``src/...``, ``README.md``), an existing file, or when
+    its nearest existing parent is not writable."""
     path = Path(os.path.expanduser(results_dir))
     path = (path if path.is_absolute() else Path(root) / path).resolve()
     home = Path(home if home is not None else os.path.expanduser("~")).resolve()
-    forbidden = {Path(p).resolve() for p in SYSTEM_ROOTS} | {home, Path(root).resolve()}
+    repo = Path(root).resolve()
+    forbidden = {Path(p).resolve() for p in SYSTEM_ROOTS} | {home, repo}
     if path in forbidden:
         raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, a system folder, "
                           "$HOME or the repository root; choose a folder inside one, e.g. "
                           "'results' or '/scratch/<you>/pedalrepro'")
+    if path in repo.parents:
+        raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, which holds the "
+                          f"repository {repo}; choose e.g. 'results'")
+    owner = source_owner(path, repo)
+    if owner is not None:
+        raise ConfigError(f"results_dir: {results_dir!r} resolves to {path}, inside or on the "
+                          f"repository's source {owner} (tracked files would be overwritten); "
+                          "choose e.g. 'results' or 'results/<name>'")
     if path.exists() and not path.is_dir():
         raise ConfigError(f"results_dir: {path} exists and is not a folder")
     parent = path
@@ -142,14 +245,48 @@ def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
     if mocap["angle_lowpass_hz"] and not mocap["angle_lowpass_hz"] < mocap["sample_rate_hz"] / 2:
         errors.append(f"mocap.angle_lowpass_hz: {mocap['angle_lowpass_hz']:g} Hz is not below "
                       f"half of mocap.sample_rate_hz ({mocap['sample_rate_hz']:g} Hz; Nyquist)")
-    for step, maximum in STEP_MAXIMA:
-        if not lin[step] < lin[maximum]:
-            errors.append(f"linear.{step}: {lin[step]:g} is not below linear.{maximum} "
-                          f"({lin[maximum]:g})")
-    for key in ("normal_cycling_speed_kmh", "normal_cycling_cadence_rpm"):
-        lo, hi = lin[key]
+    steps = [("linear", st, mx) for st, mx in STEP_MAXIMA] \
+        + [("periodic", st, mx) for st, mx in PERIODIC_STEP_MAXIMA]
+    for section, step, maximum in steps:
+        sec = config[section]
+        if not sec[step] < sec[maximum]:
+            errors.append(f"{section}.{step}: {sec[step]:g} is not below {section}.{maximum} "
+                          f"({sec[maximum]:g}): the grid would have one point")
+    for key in INCREASING_RANGES:
+        lo, hi = _get(config, key)
         if not lo < hi:
-            errors.append(f"linear.{key}: [{lo:g}, {hi:g}] is not an increasing range")
+            errors.append(f"{key}: [{lo:g}, {hi:g}] is not an increasing range [low, high]")
+    for section, pairs, cap, what in GRID_CAPS:
+        sec = config[section]
+        counts = [grid_count(sec[st], sec[mx]) for st, mx in pairs]
+        total = math.prod(counts)
+        if total > cap:
+            keys = " x ".join(f"{sec[mx]:g} / {section}.{st} -> {c:.6g}"
+                              for (st, mx), c in zip(pairs, counts, strict=True))
+            lead = pairs[counts.index(max(counts))][0]  # the step giving the most points
+            errors.append(f"{section}.{lead}: the {what} would have {total:.4g} points "
+                          f"({keys}), above the cap of {cap} (pedalrepro.config.GRID_CAPS)")
+    samples = lin["duration_s"] * lin["sample_rate_hz"] + 1
+    if samples > MAX_TIME_SAMPLES:
+        errors.append(f"linear.sample_rate_hz: linear.duration_s x sample_rate_hz = "
+                      f"{samples:.4g} samples per time solution, above the cap of "
+                      f"{MAX_TIME_SAMPLES}")
+    for key in UNIQUE_LISTS:
+        items = list(_get(config, key))
+        repeated = sorted({x for x in items if items.count(x) > 1}, key=str)
+        if repeated:
+            errors.append(f"{key}: {items} repeats {', '.join(map(str, repeated))} (each item "
+                          "once: a repeated item counts twice)")
+    harmonics = list(lin["harmonics"])
+    if harmonics[0] != 1 or harmonics != sorted(set(harmonics)):
+        errors.append(f"linear.harmonics: {harmonics} must start at 1 (the cadence, whose "
+                      "amplitude the maps show) and increase, e.g. [1, 3, 5]")
+    speeds = grid_count(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"])
+    chunks = config["nonlinear"]["chunks"]
+    if chunks > speeds:
+        errors.append(f"nonlinear.chunks: {chunks} sweep jobs is more than the {speeds:.4g} "
+                      "speeds of the time grid (linear.time_speed_*); at most "
+                      f"{min(speeds, 64):.4g}, or jobs would have no speed")
     try:
         check_results_dir(config["results_dir"], root)
     except ConfigError as exc:
@@ -187,9 +324,16 @@ def merge(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def write(config: Mapping[str, Any], path: str | Path) -> Path:
-    """Write the configuration in effect as YAML (keys in the order given)."""
+def write(config: Mapping[str, Any], path: str | Path, root: str | Path = paths.ROOT) -> Path:
+    """Write the configuration in effect as YAML (keys in the order given).
+
+    Refuses (:class:`ConfigError` naming ``path``) a path inside or on a source of the
+    repository (:func:`source_owner`), whatever results folder reached it."""
     path = Path(path)
+    owner = source_owner(path, root)
+    if owner is not None:
+        raise ConfigError(f"{path}: the configuration copy would be written inside or on the "
+                          f"repository's source {owner}; not written")
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", encoding="utf-8") as fh:
         fh.write("# The configuration this results folder was built with (written by the "
@@ -208,12 +352,13 @@ def _plain(value: Any) -> Any:
 
 
 def results_config(results: str | Path | None = None) -> dict[str, Any]:
-    """The configuration a results folder was built with (``<results>/config.yaml``).
+    """The configuration a results folder was built with (``<results>/config.used.yaml``,
+    :data:`COPY_NAME`).
 
     Notebooks read this copy, never ``config/config.yaml``, so that what they show matches the
     results (quick or thesis profile). ``results`` defaults to :func:`pedalrepro.paths.results`.
     """
-    path = Path(results if results is not None else paths.results()) / "config.yaml"
+    path = Path(results if results is not None else paths.results()) / COPY_NAME
     if not path.is_file():
         raise FileNotFoundError(f"{path} not found: run the workflow (rule write_config) first")
     return read_yaml(path)

@@ -45,6 +45,238 @@ DATA_FILES: tuple[str, ...] = ("data/parameters/bicycleparameters/bicycles/Rigid
                                "data/parameters/bicycleparameters/riders/Jason")
 
 
+#: The benchmark parameters of Meijaard et al. (2007, Table 1) that the linear model needs.
+BENCHMARK_KEYS: tuple[str, ...] = (
+    "w", "c", "lam", "g", "rR", "mR", "IRxx", "IRyy", "xB", "zB", "mB", "IBxx", "IByy", "IBzz",
+    "IBxz", "xH", "zH", "mH", "IHxx", "IHyy", "IHzz", "IHxz", "rF", "mF", "IFxx", "IFyy")
+#: Seat-tube angles accepted (deg from the horizontal): a hip behind and above the crank axis.
+#: Road, city and hybrid frames have 68-76 deg (the thesis bicycles 68.5-71 deg, legs.yaml;
+#: BicycleParameters' Rigid 72.6 deg); 45-90 deg leaves room for any upright or recumbent-like
+#: seat that the dual four-bar legs of Sec 2.1.1 can model (beyond 90 deg the hip is ahead of
+#: the crank axis).
+SEAT_TUBE_ANGLE_DEG: tuple[float, float] = (45.0, 90.0)
+#: Crank lengths accepted (m): cranks are made 0.150-0.185 m (the thesis's 0.17 m class,
+#: legs.yaml); 0.08-0.25 m covers children's and special cranks.
+CRANK_LENGTH_M: tuple[float, float] = (0.08, 0.25)
+#: Earth's surface gravity, 9.78 (equator) to 9.83 m/s^2 (poles), with a margin.
+GRAVITY_M_S2: tuple[float, float] = (9.7, 9.9)
+
+
+class BicycleDataError(ValueError):
+    """A bicycle or rider file that cannot be read or describes an impossible bicycle or rider
+    (the message names the file and the parameter)."""
+
+
+def read_parameter_file(path: str | Path) -> dict[str, float]:
+    """The nominal values of a BicycleParameters parameter file (``name = v+/-u, v+/-u``).
+
+    Checks every line as BicycleParameters' own reader would read it
+    (``bicycleparameters.io.load_parameter_text_file``: a line not starting with ``#`` is
+    ``name = value[, value...]``, each value a number with an optional ``+/-`` uncertainty,
+    several values averaged), so that a malformed line is refused here, with the file and line,
+    instead of as an IndexError inside BicycleParameters.
+
+    Raises
+    ------
+    BicycleDataError
+        Naming the file, the line and the parameter: a line without ``=``, an empty name, a
+        value that is not a number, a NaN or infinite value, a name given twice.
+    """
+    from uncertainties import ufloat_fromstr
+
+    path = Path(path)
+    out: dict[str, float] = {}
+    for i, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+        if line.startswith("#"):
+            continue
+        text = line.strip().split("#")[0]
+        name, eq, rhs = text.partition("=")
+        name = name.strip()
+        if not eq or not name or not rhs.strip():
+            raise BicycleDataError(f"{path}, line {i}: {line.strip()!r} is not 'name = value' "
+                                   "(BicycleParameters' format; comment lines start with #)")
+        values = []
+        for item in rhs.split(","):
+            try:  # as BicycleParameters parses it: ufloat_fromstr when the line has a +/-
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # "std_dev==0" of a +/-0.0
+                    values.append(ufloat_fromstr(item).nominal_value if "+/-" in rhs
+                                  else float(item))
+            except ValueError:
+                raise BicycleDataError(f"{path}, line {i}: parameter {name!r}: {item.strip()!r} "
+                                       "is not a number (value or value+/-uncertainty)") from None
+        if not all(np.isfinite(values)):
+            raise BicycleDataError(f"{path}, line {i}: parameter {name!r} = {rhs.strip()} is "
+                                   "not a finite number")
+        if name in out:
+            raise BicycleDataError(f"{path}, line {i}: parameter {name!r} is given twice")
+        out[name] = float(np.mean(values))
+    return out
+
+
+def read_yeadon_file(path: str | Path, *, positive: bool) -> dict[str, float]:
+    """The values of a Yeadon measurement or configuration file (YAML ``name: value``).
+
+    ``positive``: every value must be above zero (the measurement file: lengths, perimeters,
+    widths, depths, the conversion factor and the total mass); otherwise finite (the
+    configuration file's joint angles, rad).
+
+    Raises
+    ------
+    BicycleDataError
+        Naming the file (and the line, for a YAML syntax error) and the parameter.
+    """
+    import yaml
+
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text(errors="replace"))
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f", line {mark.line + 1}" if mark is not None else ""
+        raise BicycleDataError(f"{path}{where}: not a Yeadon file ('name: value' lines): "
+                               f"{getattr(exc, 'problem', None) or exc}") from None
+    if not isinstance(data, dict):
+        raise BicycleDataError(f"{path}: not a Yeadon file (a 'name: value' line per parameter)")
+    out = {}
+    for name, value in data.items():
+        if isinstance(value, bool) or not isinstance(value, int | float) \
+                or not np.isfinite(value):
+            raise BicycleDataError(f"{path}: parameter {name!r} = {value!r} is not a finite "
+                                   "number")
+        if positive and not value > 0:
+            raise BicycleDataError(f"{path}: parameter {name!r} = {value!r} must be positive "
+                                   "(a length, perimeter, width, depth or mass)")
+        out[str(name)] = float(value)
+    return out
+
+
+def _positive_names(values: Mapping[str, float]) -> list[str]:
+    """Parameters of a bicycle file that are positive by their nature: masses ``m*``, wheel
+    radii ``r*``, the measured rolled distances ``dR``/``dF`` and revolutions ``nR``/``nF``,
+    pendulum periods ``T*``, seat tube and post ``lst``/``lsp``, gravity ``g``."""
+    import re
+
+    pattern = re.compile(r"^(m[A-Z]\w*|r[RF]|d[RF]|n[RF]|T[ct][A-Z]\w*|lst|lsp|g)$")
+    return [k for k in values if pattern.match(k)]
+
+
+def check_bicycle_file(path: str | Path) -> dict[str, float]:
+    """:func:`read_parameter_file` plus the signs physics fixes (:func:`_positive_names`)."""
+    values = read_parameter_file(path)
+    for k in _positive_names(values):
+        if not values[k] > 0:
+            raise BicycleDataError(f"{path}: parameter {k!r} = {values[k]:g} must be positive "
+                                   "(a mass, radius, distance, period or length)")
+    return values
+
+
+def check_benchmark(par: Mapping[str, float], source: str) -> None:
+    """Physical check of the benchmark parameters of bicycle + rider (Meijaard et al. 2007,
+    Table 1; z points down), before any computation.
+
+    * every parameter of :data:`BENCHMARK_KEYS` present and finite;
+    * masses ``mR, mB, mH, mF``, radii ``rR, rF`` and the wheelbase ``w`` positive, gravity in
+      :data:`GRAVITY_M_S2`;
+    * the steer-axis tilt ``lam`` within (-90, 90) deg, the trail ``|c|`` below the wheelbase;
+    * the centres of mass of the rear frame and the front assembly above the ground
+      (``zB, zH < 0``);
+    * each inertia matrix positive definite with principal moments obeying the triangle
+      inequality (``I1 <= I2 + I3``, true of every rigid body), and each wheel's polar moment
+      at most that of a ring of its mass and radius (``IRyy <= mR rR^2``).
+
+    Raises
+    ------
+    BicycleDataError
+        Naming ``source`` (the file(s) the parameters came from) and the parameter.
+    """
+    missing = [k for k in BENCHMARK_KEYS if k not in par]
+    if missing:
+        raise BicycleDataError(f"{source}: parameter(s) {', '.join(missing)} missing "
+                               "(Meijaard et al. 2007 benchmark parameters)")
+    bad = [k for k in BENCHMARK_KEYS if not np.isfinite(par[k])]
+    if bad:
+        raise BicycleDataError(f"{source}: parameter(s) {', '.join(bad)} not finite: "
+                               + ", ".join(f"{k} = {par[k]}" for k in bad))
+    errors = [f"{k} = {par[k]:g} must be positive" for k in ("mR", "mB", "mH", "mF", "rR",
+                                                              "rF", "w") if not par[k] > 0]
+    lo, hi = GRAVITY_M_S2
+    if not lo <= par["g"] <= hi:
+        errors.append(f"g = {par['g']:g} m/s^2 outside {lo}-{hi} (Earth's surface gravity)")
+    if not abs(par["lam"]) < np.pi / 2:
+        errors.append(f"lam = {par['lam']:g} rad (steer-axis tilt) outside (-pi/2, pi/2)")
+    if par["w"] > 0 and not abs(par["c"]) < par["w"]:
+        errors.append(f"c = {par['c']:g} m (trail) is not below the wheelbase w = {par['w']:g}")
+    for k in ("zB", "zH"):
+        if not par[k] < 0:
+            errors.append(f"{k} = {par[k]:g} m: the centre of mass must be above the ground "
+                          "(z points down, Meijaard 2007)")
+    bodies = {"rear frame + rider (IBxx, IByy, IBzz, IBxz)": ("IBxx", "IByy", "IBzz", "IBxz"),
+              "front assembly (IHxx, IHyy, IHzz, IHxz)": ("IHxx", "IHyy", "IHzz", "IHxz")}
+    for what, (xx, yy, zz, xz) in bodies.items():
+        inertia = np.array([[par[xx], 0, par[xz]], [0, par[yy], 0], [par[xz], 0, par[zz]]])
+        moments = np.linalg.eigvalsh(inertia)
+        if not moments[0] > 0:
+            errors.append(f"the inertia matrix of the {what} is not positive definite "
+                          f"(principal moments {', '.join(f'{x:.4g}' for x in moments)})")
+        elif moments[2] > moments[0] + moments[1] + 1e-12 * moments[2]:
+            errors.append(f"the inertia matrix of the {what} breaks the triangle inequality "
+                          f"(principal moments {', '.join(f'{x:.4g}' for x in moments)})")
+    for wheel, (m, r, ixx, iyy) in {"rear": ("mR", "rR", "IRxx", "IRyy"),
+                                    "front": ("mF", "rF", "IFxx", "IFyy")}.items():
+        if not (par[ixx] > 0 and par[iyy] > 0):
+            errors.append(f"{ixx} = {par[ixx]:g}, {iyy} = {par[iyy]:g}: the {wheel} wheel's "
+                          "inertia must be positive")
+        elif par[m] > 0 and par[r] > 0 and par[iyy] > par[m] * par[r] ** 2 * (1 + 1e-9):
+            errors.append(f"{iyy} = {par[iyy]:g} kg m^2 exceeds {m} {r}^2 = "
+                          f"{par[m] * par[r] ** 2:.4g} (a ring, the largest polar moment of a "
+                          f"{wheel} wheel of that mass and radius)")
+    if errors:
+        raise BicycleDataError(f"{source}: impossible bicycle or rider:\n  "
+                               + "\n  ".join(errors))
+
+
+def check_seat(seat_height_m: float, seat_tube_angle_rad: float, crank_length_m: float,
+               source: str) -> None:
+    """Seat and crank of the leg model (Sec 2.1.1) finite and in range (:data:`CRANK_LENGTH_M`,
+    :data:`SEAT_TUBE_ANGLE_DEG`), the hip farther from the crank axis than the crank is long;
+    :class:`BicycleDataError` naming ``source`` (an option or a file's parameter)."""
+    values = {"seat height": seat_height_m, "seat-tube angle": seat_tube_angle_rad,
+              "crank length": crank_length_m}
+    bad = [k for k, x in values.items() if not np.isfinite(x)]
+    if bad:
+        raise BicycleDataError(f"{source}: {', '.join(bad)} not a finite number")
+    lo, hi = CRANK_LENGTH_M
+    errors = []
+    if not lo <= crank_length_m <= hi:
+        errors.append(f"crank length {crank_length_m:g} m outside {lo}-{hi} m (cranks are made "
+                      "0.150-0.185 m; --crank-length-m)")
+    lo, hi = SEAT_TUBE_ANGLE_DEG
+    deg = float(np.rad2deg(seat_tube_angle_rad))
+    if not lo <= deg <= hi:
+        errors.append(f"seat-tube angle {deg:g} deg outside {lo:g}-{hi:g} deg from the horizontal "
+                      "(road and city frames 68-76 deg; --seat-tube-angle-deg, or lamst in rad)")
+    if not seat_height_m > max(crank_length_m, 0):
+        errors.append(f"seat height {seat_height_m:g} m must be positive and above the crank "
+                      f"length {crank_length_m:g} m (--seat-height-m, or lst + lsp)")
+    if errors:
+        raise BicycleDataError(f"{source}: " + "; ".join(errors))
+
+
+def reach_fix(geometry: legs.LegGeometry) -> str:
+    """The seat heights at which the legs reach the pedals all round (Sec 2.1.1), as the fix
+    to suggest: ``|l_ul - l_ll| + l_cr <= L <= l_ul + l_ll - l_cr``."""
+    reach = geometry.shank_length_m + geometry.thigh_length_m
+    fold = abs(geometry.thigh_length_m - geometry.shank_length_m)
+    lo, hi = fold + geometry.crank_length_m, reach - geometry.crank_length_m
+    if lo > hi:
+        return (f"no seat height works with a {geometry.crank_length_m:g} m crank: pass a "
+                "shorter --crank-length-m")
+    return (f"pass --seat-height-m between {np.ceil(lo * 1e3) / 1e3:.3f} and "
+            f"{np.floor(hi * 1e3) / 1e3:.3f} m (the book's Rigid example uses 0.72 m, as the "
+            "thesis did for the city bicycle, Sec 2.1.1)")
+
+
 @dataclass(frozen=True)
 class OwnBicycle:
     """A bicycle with a rigid rider, ready for the linear analysis.
@@ -141,18 +373,18 @@ def seat_geometry(measured: Mapping[str, float] | None, *, seat_height_m: float 
     measured = dict(measured or {})
     if seat_height_m is None:
         if "lst" not in measured or "lsp" not in measured:
-            raise KeyError("the bicycle's measured data (RawData/<Name>Measured.txt) have no "
-                           "'lst'/'lsp' (seat tube, seat post): pass seat_height_m "
-                           "(--seat-height-m)")
+            raise BicycleDataError("the bicycle's measured data (RawData/<Name>Measured.txt) "
+                                   "have no 'lst'/'lsp' (seat tube, seat post): pass "
+                                   "seat_height_m (--seat-height-m)")
         seat_height_m = float(measured["lst"]) + float(measured["lsp"])
         src = "lst + lsp"
     else:
         src = "given"
     if seat_tube_angle_deg is None:
         if "lamst" not in measured:
-            raise KeyError("the bicycle's measured data (RawData/<Name>Measured.txt) have no "
-                           "'lamst' (seat-tube angle): pass seat_tube_angle_deg "
-                           "(--seat-tube-angle-deg)")
+            raise BicycleDataError("the bicycle's measured data (RawData/<Name>Measured.txt) "
+                                   "have no 'lamst' (seat-tube angle): pass "
+                                   "seat_tube_angle_deg (--seat-tube-angle-deg)")
         angle = float(measured["lamst"])
         src_a = "lamst"
     else:
@@ -195,25 +427,59 @@ def load_bicycle(data_dir: str | Path, bicycle: str, rider: str, *,
 
     d = Path(data_dir)
     recalc = check_folder(d, bicycle, rider)
-    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
-        warnings.simplefilter("ignore")
-        bike = bp.Bicycle(bicycle, pathToData=str(d))
-        bike.add_rider(rider, reCalc=recalc)
-        par = bp.io.remove_uncertainties(dict(bike.parameters["Benchmark"]))
-        measured = bike.parameters.get("Measured")
-        measured = bp.io.remove_uncertainties(dict(measured)) if measured else None
-    par = {k: float(v) for k, v in par.items()}
-    m, c1, k0, k2 = benchmark_par_to_canonical(par)
-    model = LinearModel(f"{bicycle}+{rider}", *(np.asarray(x, float) for x in (m, c1, k0, k2)),
-                        g=float(par.get("g", 9.81)))
-    length, angle, note = seat_geometry(measured, seat_height_m=seat_height_m,
-                                        seat_tube_angle_deg=seat_tube_angle_deg)
+    # every file read, checked line by line before BicycleParameters parses it
+    bdir = d / "bicycles" / bicycle
+    files = [p for p in (bdir / "Parameters" / f"{bicycle}Benchmark.txt",
+                         bdir / "RawData" / f"{bicycle}Measured.txt") if p.is_file()]
+    measured_file = bdir / "RawData" / f"{bicycle}Measured.txt"
+    bike_values = {p: check_bicycle_file(p) for p in files}
+    rfiles = _rider_files(d, bicycle, rider)
+    if recalc:
+        read_yeadon_file(rfiles["meas"], positive=True)
+        read_yeadon_file(rfiles["cfg"], positive=False)
+        rider_files = [rfiles["meas"], rfiles["cfg"]]
+    else:
+        check_bicycle_file(rfiles["par"])
+        rider_files = [rfiles["par"]]
+    source = " + ".join(str(p) for p in files[:1] + rider_files)
+    # seat and crank (options or the measured file), checked before any computation
     base = legs.leg_geometry("hybrid", com)  # legs.yaml segments; the seat is replaced below
     crank = base.crank_length_m if crank_length_m is None else float(crank_length_m)
+    length, angle, note = seat_geometry(bike_values.get(measured_file), seat_height_m=seat_height_m,
+                                        seat_tube_angle_deg=seat_tube_angle_deg)
+    seat_source = ", ".join(
+        [f"--seat-height-m {seat_height_m}" if seat_height_m is not None
+         else f"{measured_file}: lst + lsp",
+         f"--seat-tube-angle-deg {seat_tube_angle_deg}" if seat_tube_angle_deg is not None
+         else f"{measured_file}: lamst",
+         f"--crank-length-m {crank_length_m}" if crank_length_m is not None
+         else "legs.yaml crank_length_m"])
+    check_seat(length, angle, crank, seat_source)
     geometry = replace(base, name=f"{bicycle} + {rider} ({com}), L = {length:g} m",
                        seat_tube_angle_rad=angle, seat_tube_plus_post_m=length,
                        crank_length_m=crank)
-    legs.check_reach(geometry)
+    try:
+        legs.check_reach(geometry)
+    except ValueError as exc:
+        raise BicycleDataError(f"{exc} ({seat_source}): {reach_fix(geometry)}") from None
+    try:
+        with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+            warnings.simplefilter("ignore")
+            bike = bp.Bicycle(bicycle, pathToData=str(d))
+            bike.add_rider(rider, reCalc=recalc)
+            par = bp.io.remove_uncertainties(dict(bike.parameters["Benchmark"]))
+    except KeyError as exc:
+        raise BicycleDataError(f"{' + '.join(map(str, files + rider_files))}: parameter "
+                               f"{exc.args[0]!r} missing (BicycleParameters needs it)") from None
+    except Exception as exc:  # noqa: BLE001 - any failure inside BicycleParameters/yeadon
+        raise BicycleDataError(f"{' + '.join(map(str, files + rider_files))}: BicycleParameters "
+                               f"cannot build the bicycle with its rider: "
+                               f"{type(exc).__name__}: {exc}") from None
+    par = {k: float(v) for k, v in par.items()}
+    check_benchmark(par, f"bicycle {bicycle!r} + rider {rider!r} (from {source})")
+    m, c1, k0, k2 = benchmark_par_to_canonical(par)
+    model = LinearModel(f"{bicycle}+{rider}", *(np.asarray(x, float) for x in (m, c1, k0, k2)),
+                        g=float(par.get("g", 9.81)))
     notes = (note, f"crank length {crank:g} m", "leg segments and hip width: legs.yaml",
              "rider: " + ("Yeadon measurements (reCalc)" if recalc else "precomputed parameters"))
     return OwnBicycle(bicycle, rider, par, model, geometry, par["rR"], notes)

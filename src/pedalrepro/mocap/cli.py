@@ -30,6 +30,19 @@ def _sources(items: list[str]):
     return items[0] if len(items) == 1 else items
 
 
+def _cutoff_hz(text: str) -> float:
+    """``--lowpass-hz``: a finite frequency >= 0 (0 = off); the Nyquist rate is checked
+    against the run (:func:`pedalrepro.mocap.runs.check_lowpass`)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (value == value and abs(value) != float("inf") and value >= 0):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a finite frequency >= 0 Hz (0 or --no-lowpass: no filter)")
+    return value
+
+
 def _extract(args: argparse.Namespace) -> int:
     from .runs import RunRefusedError, analyse_run
 
@@ -103,8 +116,9 @@ def add_cli(subparsers) -> None:
                    "one is enough, the others are found beside it), or the number of a "
                    "public-subset run (fetched into $PEDALREPRO_DATA_DIR)")
     e.add_argument("--out", required=True, help="CSV to write")
-    e.add_argument("--lowpass-hz", type=float, default=12.0,
-                   help="zero-phase low-pass of the angles (Hz), default 12")
+    e.add_argument("--lowpass-hz", type=_cutoff_hz, default=12.0,
+                   help="zero-phase low-pass of the angles (Hz, below the run's Nyquist rate; "
+                   "0 = off), default 12")
     e.add_argument("--no-lowpass", action="store_true", help="no low-pass filter")
     e.set_defaults(func=_extract)
     i = sub.add_parser("import", help="write per-coordinate exports as a published RNNN.mat")

@@ -65,6 +65,12 @@ class HashMismatchError(ValueError):
     """A data file whose hash differs from the registry (the message names the file)."""
 
 
+class CorruptDataError(HashMismatchError, DataUnavailableError):
+    """A cached data file whose hash differs from the registry and that cannot be fetched
+    again (offline): the message names the file and both hashes (the registry's and the
+    file's), never only "cannot be reached"."""
+
+
 def offline_message(exc: BaseException | None = None) -> str:
     why = f" ({type(exc).__name__}: {exc})" if exc is not None else ""
     return (
@@ -256,9 +262,11 @@ def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True,
         events.append(msg)
         LOG.warning(msg)
 
+    mismatch = None
     try:
         cached = verify(pup, name)
     except HashMismatchError as exc:
+        mismatch = str(exc)
         say(f"{exc}: removed, fetching it again")
         (Path(pup.abspath) / name).unlink()
         cached = None
@@ -285,6 +293,11 @@ def fetch(name: str, pup: pooch.Pooch | None = None, progressbar: bool = True,
                 "fetching it again")
         except (requests.exceptions.RequestException, OSError) as exc:
             if last or not part.is_file():
+                if mismatch is not None:
+                    raise CorruptDataError(
+                        f"{mismatch}; it was removed and cannot be downloaded again "
+                        f"({type(exc).__name__}: {exc}): put the published file in "
+                        f"{pup.abspath}") from exc
                 raise DataUnavailableError(
                     f"{name}: cannot be downloaded ({type(exc).__name__}: {exc})") from exc
             say(f"{name}: download interrupted ({exc}); resuming from "
@@ -379,6 +392,26 @@ def public_files(pup: pooch.Pooch | None = None, progressbar: bool = True,
     return out
 
 
+def cache_state(pup: pooch.Pooch, rider: int | None = 3) -> tuple[list[str], list[str]]:
+    """The rider's registry run files that are corrupt in the cache (each as the
+    :func:`verify` message: the file, the registry's hash and the file's) and those missing
+    from it (names), offline."""
+    names = rider_run_names(pup.registry, rider) if rider is not None else list(pup.registry)
+    corrupt, missing = [], []
+    for name in names:
+        try:
+            if verify(pup, name) is None:
+                missing.append(name)
+        except HashMismatchError as exc:
+            corrupt.append(str(exc))
+    return corrupt, missing
+
+
+def _listed(names: list[str], most: int = 8) -> str:
+    more = f" and {len(names) - most} more" if len(names) > most else ""
+    return ", ".join(names[:most]) + more
+
+
 def cached_complete(pup: pooch.Pooch, rider: int | None = 3) -> bool:
     """The rider's registry run files are all in the cache with the right hashes (offline)."""
     names = rider_run_names(pup.registry, rider) if rider is not None else list(pup.registry)
@@ -406,12 +439,24 @@ def resolve_source(requested: str = "auto", pup: pooch.Pooch | None = None
     pup = pup or make_pooch()
     if cached_complete(pup):
         return "figshare", "all registry run files cached and verified"
+    corrupt, missing = cache_state(pup)
     try:
         figshare_registry(pup, require_doi=True)
         return "figshare", f"downloadable from figshare (DOI {DOI})"
     except DataUnavailableError as exc:
+        why = f"{type(exc.__cause__ or exc).__name__}"
+        if corrupt:  # the files are the problem, not only the network: name them
+            msg = (f"data_source: {requested}: {len(corrupt)} cached figshare file(s) corrupt: "
+                   + "; ".join(corrupt) + f"; figshare cannot be reached to fetch them again "
+                   f"({why}): replace them with the published files in {pup.abspath}")
+            if requested == "figshare":
+                raise CorruptDataError(msg) from exc
+            return "synthetic", msg + "; the synthetic stand-in is used, not the measurement"
         if requested == "figshare":
+            if missing:
+                raise DataUnavailableError(
+                    f"{exc} Missing from {pup.abspath}: {_listed(missing)} "
+                    f"({len(missing)} of rider 3's run files in {REGISTRY.name}).") from exc
             raise
-        return "synthetic", (f"figshare unreachable from this machine "
-                             f"({type(exc.__cause__ or exc).__name__}); the synthetic stand-in "
-                             "is not the measurement")
+        return "synthetic", (f"figshare unreachable from this machine ({why}); the synthetic "
+                             "stand-in is not the measurement")

@@ -80,6 +80,8 @@ def prepare_runs(requested: str, out: str | Path, mocap_cfg: dict, seed: int,
             files = fetch.run_files(progressbar=progressbar, events=events)
         except (fetch.DataUnavailableError, fetch.HashMismatchError) as exc:
             if requested == "figshare":
+                if isinstance(exc, fetch.HashMismatchError):  # names the file and both hashes
+                    raise
                 raise fetch.DataUnavailableError(fetch.offline_message(exc)) from exc
             source = "synthetic"
             reason = (f"the figshare files could not all be had ({type(exc).__name__}: {exc}); "

@@ -100,10 +100,17 @@ def table_4_1_runs(index: pd.DataFrame, cadence_rpm: dict[int, float] | None = N
 MAX_GAP_S = 0.5
 #: Largest Hann-weighted share of interpolated samples (many short gaps add up, same bound).
 MAX_INTERPOLATED_SHARE = 0.02
-#: Shortest usable stretch (s) analysed when long gaps split a run: the Hann main lobe is
-#: ``4 / T`` wide, 0.27 Hz = 16 rpm at 15 s, which keeps the cadence (60-90 rpm) clear of the
-#: weave and control band below 0.5 Hz (Sec 4.2) and resolves the cadence to 4 rpm per bin.
-MIN_SEGMENT_S = 15.0
+#: Shortest analysable record (s): a whole run as well as the stretch analysed when long gaps
+#: split a run. MEASURED (``scripts/measure_min_length.py``, issue 22): every excerpt of run 3045
+#: (real, 60 s; starts every 2.5 s) analysed as a run, its cadence amplitudes against the whole
+#: record's (roll 0.01184, steer 0.02181 rad): median | largest error of roll, steer
+#: 3 s: 21 | 82 %, 15 | 56 %; 10 s: 6.9 | 41 %, 4.0 | 26 %; 15 s: 5.8 | 20 %, 2.4 | 12 %;
+#: 20 s: 4.7 | 10 %, 1.3 | 6.8 %; 30 s: 3.1 | 4.5 %, 1.5 | 3.0 %. 20 s is the shortest length
+#: whose median error stays below 5 %, the last printed digit of Table 4.1's measured
+#: amplitudes (0.0005 rad of 0.011 rad), with at most 10 % for any excerpt; its Hann main lobe
+#: (``4 / T`` = 0.2 Hz = 12 rpm) keeps the cadence (60-90 rpm) clear of the weave and control
+#: band below 0.5 Hz (Sec 4.2). config/schema.yaml's ``mocap.duration_s`` has the same minimum.
+MIN_SEGMENT_S = 20.0
 #: Smallest amplitude (m) of the right foot's forward motion at the cadence: while pedalling it
 #: is about the crank length (0.17 m, legs.yaml); the marker noise is 0.15 mm. A run below this
 #: has no pedalling to analyse (frozen, towed or a swapped foot marker).
@@ -182,7 +189,8 @@ def usable_segment(valid: np.ndarray, t_s: np.ndarray, max_gap_s: float = MAX_GA
     return int(i0), int(i1), [(float(t_s[a]), float(t_s[b - 1] + dt)) for a, b in long_]
 
 
-def _slice(run: Run, i0: int, i1: int) -> Run:
+def excerpt(run: Run, i0: int, i1: int) -> Run:
+    """Samples ``[i0, i1)`` of a run (a stretch between gaps, or an excerpt to measure with)."""
     return replace(run, t_s=run.t_s[i0:i1], markers_m=run.markers_m[i0:i1],
                    raw_m=run.raw_m[i0:i1], notes=list(run.notes))
 
@@ -208,11 +216,41 @@ def _check_pedalling(run: Run, kin: kinematics.Kinematics, cad: cadence_mod.Cade
             f"{100 * MAX_CADENCE_DISAGREEMENT:g} %); refused")
 
 
+def check_lowpass(lowpass_hz: float | None, sample_rate_hz: float, source: str) -> None:
+    """A low-pass cut-off is ``None``/0 (off) or a finite frequency above 0 and below the
+    Nyquist rate ``sample_rate_hz / 2``; :class:`RunRefusedError` naming ``source`` otherwise
+    (``nan`` used to end in "attempt to get argmin of an empty sequence")."""
+    if lowpass_hz is None or lowpass_hz == 0:
+        return
+    if not (np.isfinite(lowpass_hz) and 0 < lowpass_hz < sample_rate_hz / 2):
+        raise RunRefusedError(
+            f"{source}: low-pass cut-off {lowpass_hz!r} Hz must be a finite frequency above 0 "
+            f"and below the Nyquist rate {sample_rate_hz / 2:g} Hz of this run "
+            "(--lowpass-hz, or --no-lowpass)")
+
+
+def check_length(run: Run) -> float:
+    """The record's length (s); :class:`RunRefusedError` when shorter than
+    :data:`MIN_SEGMENT_S`, the shortest analysable stretch (a whole record as well as a stretch
+    between gaps)."""
+    dur = len(run.t_s) / run.sample_rate_hz
+    if dur < MIN_SEGMENT_S - 0.5 / run.sample_rate_hz:
+        raise RunRefusedError(
+            f"run {run.run_id}: record too short: {dur:.2f} s ({len(run.t_s)} samples at "
+            f"{run.sample_rate_hz:g} Hz), less than the {MIN_SEGMENT_S:g} s minimum analysable "
+            "length (runs.MIN_SEGMENT_S: shorter excerpts of the real run 3045 miss its 60 s "
+            "cadence amplitudes by over 5 % typically and up to 82 % at 3 s, "
+            "scripts/measure_min_length.py); refused")
+    return dur
+
+
 def analyse_run(path: str | Path | list | dict,
                 lowpass_hz: float | None = kinematics.LOWPASS_HZ) -> RunAnalysis:
     """Read a run (``.mat`` or exports), extract its angles, cadence and cadence amplitudes.
 
-    Quality criteria (the same in the CLI and the pipeline): gaps over which the angles are
+    Quality criteria (the same in the CLI and the pipeline): the low-pass cut-off finite and
+    below the Nyquist rate, the record at least :data:`MIN_SEGMENT_S` long (else refused as
+    too short, whatever else is wrong with it); gaps over which the angles are
     interpolated must be at most :data:`MAX_GAP_S` long and cover at most
     :data:`MAX_INTERPOLATED_SHARE` of the Hann-weighted record; otherwise the longest stretch
     between long gaps is analysed if it lasts :data:`MIN_SEGMENT_S` (``partial``, with a
@@ -227,11 +265,20 @@ def analyse_run(path: str | Path | list | dict,
     MocapFileError, ValueError
         Unreadable or incomplete files, static runs, too few markers.
     """
-    from .. import spectral
-
     run = load_run(path)
     if run.is_static:
         raise ValueError(f"{path}: run {run.run_id} is a static run (no motion to analyse)")
+    return analyse_loaded(run, lowpass_hz)
+
+
+def analyse_loaded(run: Run, lowpass_hz: float | None = kinematics.LOWPASS_HZ) -> RunAnalysis:
+    """:func:`analyse_run` of a run already read (e.g. an excerpt, ``scripts/
+    measure_min_length.py``): the record's length (:func:`check_length`) and the low-pass
+    cut-off (:func:`check_lowpass`) are checked first."""
+    from .. import spectral
+
+    check_lowpass(lowpass_hz, run.sample_rate_hz, f"run {run.run_id}")
+    check_length(run)
     kin = kinematics.extract(run, lowpass_hz=lowpass_hz)
     notes: list[str] = []
     i0, i1, long_gaps = usable_segment(kin.valid, run.t_s)
@@ -248,7 +295,7 @@ def analyse_run(path: str | Path | list | dict,
     else:
         dur = float(run.t_s[i1 - 1] - run.t_s[i0]) + 1.0 / run.sample_rate_hz
         listed = ", ".join(f"{a:.2f}-{b:.2f} s ({b - a:.2f} s)" for a, b in long_gaps)
-        if dur < MIN_SEGMENT_S:
+        if dur < MIN_SEGMENT_S - 0.5 / run.sample_rate_hz:
             raise RunRefusedError(
                 f"run {run.run_id}: gaps longer than {MAX_GAP_S:g} s ({listed}) leave at most "
                 f"{dur:.1f} s without a long gap, less than the {MIN_SEGMENT_S:g} s needed; "
@@ -256,7 +303,7 @@ def analyse_run(path: str | Path | list | dict,
         notes.append(f"PARTIAL: analysed {run.t_s[i0]:.2f}-{run.t_s[i0] + dur:.2f} s "
                      f"({dur:.1f} of {n / run.sample_rate_hz:.1f} s): gaps longer than "
                      f"{MAX_GAP_S:g} s at {listed} are not interpolated over")
-        run = _slice(run, i0, i1)
+        run = excerpt(run, i0, i1)
         kin = kinematics.extract(run, lowpass_hz=lowpass_hz)
     cad = cadence_mod.detect_cadence(run, kin)
     _check_pedalling(run, kin, cad)
