@@ -29,7 +29,7 @@ def _results(tmp_path, profile_files=("quick.yaml",), **edits):
     cfg = config.load(None, *[paths.CONFIG / f for f in profile_files])
     for key, value in edits.items():
         cfg[key] = value
-    config.write(cfg, res / "config.yaml")
+    config.write(cfg, res / config.COPY_NAME)
     row = report.check("nrmsd_com_z", 3.64)
     rep = report.write_rows([row], res / "tables" / "reproduction_report.csv")
     return res / "tables" / "reproduction_report.csv", rep
