@@ -1,0 +1,93 @@
+"""Rider-control layer (pedalrepro.rider): the Hess, Moore & Hubbard (2012) loops and the
+HumanControl gain rules, checked against HumanControl's published gain table."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pedalrepro import params, paths, response
+from pedalrepro.rider import closed_loop, gains, plant
+
+
+@pytest.fixture(scope="module")
+def published_gains() -> dict:
+    return params.read_yaml(paths.PUBLISHED / "humancontrol_gains.yaml")
+
+
+def _row(table: list, speed: float) -> np.ndarray:
+    rows = np.array(table, float)
+    return rows[np.argmin(np.abs(rows[:, 0] - speed)), 1:]
+
+
+def test_rules_give_benchmark_gains_at_5_m_s_within_1_percent(published_gains):
+    model, geo = closed_loop.model_and_geometry("benchmark")
+    res = gains.rule_gains(plant.plant(model, geo, 5.0))
+    expected = _row(published_gains["Benchmark"], 5.0)
+    np.testing.assert_allclose(res.gains, expected, rtol=0.01)
+    # compute_inner_gains's own stored solution for this case: kDelta 46.5520, kPhiDot -0.05216
+    assert res.gains[0] == pytest.approx(46.5520391, rel=1e-6)
+    assert res.gains[1] == pytest.approx(-0.0521602768, rel=1e-5)
+
+
+def test_rule_targets_hold_in_the_closed_loops():
+    """The damping ratios and crossovers the rules ask for, recomputed independently."""
+    model, geo = closed_loop.model_and_geometry("CF")
+    p = plant.plant(model, geo, 25 / 3.6)
+    k = gains.rule_gains(p).gains
+    for loop, zeta in ((0, gains.ZETA_DELTA), (1, gains.ZETA_PHIDOT)):
+        lam = np.linalg.eigvals(plant.closed_matrix(p, k, loop + 1))
+        lam = lam[lam.imag > 0]
+        assert np.min(np.abs(-lam.real / np.abs(lam) - zeta)) < 1e-9
+    for loop, wc in zip((2, 3, 4), gains.CROSSOVER_RAD_S, strict=True):
+        assert k[loop] * abs(plant.open_loop_response(p, k, loop, [wc])[0]) == pytest.approx(1.0)
+
+
+def test_heading_kinematics_is_the_whipple_yaw_rate():
+    """psi' = (v steer + c steer') cos(lam) / w (Meijaard et al. 2007), yP' = v psi."""
+    model, geo = closed_loop.model_and_geometry("benchmark")
+    p = plant.plant(model, geo, 4.0)
+    x = np.zeros(plant.N_STATES)
+    x[1], x[3], x[4] = 0.1, 0.2, 0.05
+    dx = p.A @ x
+    assert dx[4] == pytest.approx((4.0 * 0.1 + 0.08 * 0.2) * np.cos(np.pi / 10) / 1.02)
+    assert dx[5] == pytest.approx(4.0 * 0.05)
+
+
+def test_closed_loop_is_stable_where_the_open_loop_weave_is_not():
+    sweep = closed_loop.gain_sweep("CF", np.array([3.0, 4.0, 5.0, 6.0]))
+    assert sweep.stable.all()
+    assert np.isfinite(sweep.gains).all()
+    from pedalrepro import linear
+    open_eig = linear.eigenvalues(linear.linear_model("CF"), np.array([3.0, 4.0, 5.0, 6.0]))
+    assert (open_eig.real.max(axis=1) > 0).all()  # CF has no self-stable speed (Sec 3.2.1)
+
+
+def test_closed_loop_particular_solution_matches_time_integration():
+    """Steady-state cadence amplitude of the closed loop: batched solve vs solve_ivp (1e-6)."""
+    from scipy.integrate import solve_ivp
+
+    v, w = 25 / 3.6, 64 * 2 * np.pi / 60
+    harm = response.forcing("CF", (1, 3, 5))
+    k = closed_loop.rule_gains_at("CF", v).gains
+    roll, steer = closed_loop.closed_loop_particular("CF", np.array([v]), k[None], np.array([w]),
+                                                     harm)
+    a_cl, p = closed_loop.closed_loop_matrices("CF", np.array([v]), k[None])
+    n, coef = response.harmonic_coefficients(harm)
+    force = p.B_f @ coef.T  # (8, k)
+
+    def rhs(t, x):
+        return a_cl[0] @ x + np.real(force @ ((n * w) ** 2 * np.exp(1j * n * w * t)))
+
+    period = 2 * np.pi / w
+    decay = -np.linalg.eigvals(a_cl[0]).real.max()
+    t_end = np.ceil(40.0 / decay / period) * period  # transients decayed to exp(-40)
+    t = t_end + np.linspace(0.0, period, 2049)[:-1]
+    sol = solve_ivp(rhs, (0.0, t[-1]), np.zeros(plant.N_STATES), t_eval=t, rtol=1e-11,
+                    atol=1e-14, method="DOP853")
+    for idx, q in ((0, roll[0, 0]), (1, steer[0, 0])):
+        x = sol.y[idx]
+        amp1 = 2 * abs(np.mean(x * np.exp(-1j * w * t)))  # the cadence harmonic
+        assert amp1 == pytest.approx(abs(q[0]), rel=1e-6)
+        steady = np.real(np.exp(1j * np.outer(t, n * w)) @ q)
+        assert np.max(np.abs(x - steady)) < 1e-6 * np.max(np.abs(steady))
