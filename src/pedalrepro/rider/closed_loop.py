@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import params
+from .. import params, paths
 from ..linear import benchmark_model, bicycle_of, linear_model
 from ..params import LinearModel
 from ..response import Harmonics, harmonic_coefficients
@@ -110,21 +110,38 @@ def rule_gains_at(name: str, speed_m_s: float, settings: RuleSettings = DEFAULT_
                       float(sweep.omega_phidot_rad_s[i]))
 
 
-def closed_loop_matrices(name: str, speed_m_s: np.ndarray, gains: np.ndarray
-                         ) -> tuple[np.ndarray, Plant]:
+def published_gains(table: str, speed_m_s: np.ndarray) -> np.ndarray:
+    """A HumanControl gain table (``data/published/humancontrol_gains.yaml``), linearly
+    interpolated in speed; NaN outside the tabulated speeds (n_v, 5).
+
+    Used only where no rule applies: the roll-torque (hands-free stand-in) rider, whose
+    inner-loop damping rule has no solution (the tables are comparison values elsewhere).
+    """
+    data = params.read_yaml(paths.PUBLISHED / "humancontrol_gains.yaml")
+    if table not in data:
+        raise KeyError(f"no gain table {table!r} in humancontrol_gains.yaml")
+    rows = np.array(data[table], float)
+    v = np.asarray(speed_m_s, float)
+    out = np.column_stack([np.interp(v, rows[:, 0], rows[:, j], left=np.nan, right=np.nan)
+                           for j in range(1, 6)])
+    return out
+
+
+def closed_loop_matrices(name: str, speed_m_s: np.ndarray, gains: np.ndarray,
+                         control_input: str = "steer") -> tuple[np.ndarray, Plant]:
     """Closed-loop state matrices (n_v, 8, 8) at the speeds with the given gains (n_v, 5)."""
     model, geo = model_and_geometry(name)
     mats = np.empty((len(speed_m_s), N_STATES, N_STATES))
     p = None
     for i, v in enumerate(np.asarray(speed_m_s, float)):
-        p = plant(model, geo, v)
+        p = plant(model, geo, v, control_input=control_input)
         mats[i] = closed_matrix(p, gains[i])
     return mats, p
 
 
 def closed_loop_particular(name: str, speed_m_s: np.ndarray, gains: np.ndarray,
-                           omega_rad_s: np.ndarray, harmonics: Harmonics
-                           ) -> tuple[np.ndarray, np.ndarray]:
+                           omega_rad_s: np.ndarray, harmonics: Harmonics,
+                           control_input: str = "steer") -> tuple[np.ndarray, np.ndarray]:
     """Closed-loop particular solution (module docstring) on a speed x cadence grid.
 
     Parameters
@@ -139,6 +156,8 @@ def closed_loop_particular(name: str, speed_m_s: np.ndarray, gains: np.ndarray,
         Cadences (n_w,), rad/s.
     harmonics
         Pedalling torque harmonics (Eq 3.14).
+    control_input
+        ``"steer"`` (hands on) or ``"roll"`` (the hands-free stand-in), :func:`plant.plant`.
 
     Returns
     -------
@@ -146,7 +165,7 @@ def closed_loop_particular(name: str, speed_m_s: np.ndarray, gains: np.ndarray,
         Complex amplitudes (n_v, n_w, k) as ``response.particular_solution``.
     """
     n, coef = harmonic_coefficients(harmonics)
-    a_cl, p = closed_loop_matrices(name, speed_m_s, np.asarray(gains, float))
+    a_cl, p = closed_loop_matrices(name, speed_m_s, np.asarray(gains, float), control_input)
     w = np.asarray(omega_rad_s, float)
     freq = w[:, None] * n[None, :]  # (n_w, k)
     eye = np.eye(N_STATES)

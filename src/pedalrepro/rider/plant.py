@@ -81,11 +81,17 @@ class Plant:
     B_f: np.ndarray
     C: np.ndarray
     speed_m_s: float
+    control_input: str = "steer"
+
+
+#: The rider's control inputs: steer torque (hands on) or roll torque (HumanControl's "Roll"
+#: input, a hands-free stand-in: an external torque about the roll axis).
+CONTROL_INPUTS: tuple[str, ...] = ("steer", "roll")
 
 
 def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
           neuro_freq_rad_s: float = NEURO_FREQ_RAD_S,
-          neuro_damping: float = NEURO_DAMPING) -> Plant:
+          neuro_damping: float = NEURO_DAMPING, control_input: str = "steer") -> Plant:
     """The rider-control plant of ``model`` at one speed (module docstring).
 
     Parameters
@@ -98,12 +104,18 @@ def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
         Forward speed (m/s).
     neuro_freq_rad_s, neuro_damping
         The neuromuscular filter (Hess et al. 2012: 30 rad/s, 0.707).
+    control_input
+        ``"steer"``: the filter's torque acts on the steer equation; ``"roll"``: on the roll
+        equation, and the steer angle is not fed back (``C[0] = 0``, use ``kDelta = 1``), as
+        HumanControl's ``input='Roll'``.
     """
+    if control_input not in CONTROL_INPUTS:
+        raise ValueError(f"control_input {control_input!r}: expected one of {CONTROL_INPUTS}")
     v = float(speed_m_s)
     a = np.zeros((N_STATES, N_STATES))
     a[0:4, 0:4] = state_matrix(model, v)
     minv = np.linalg.inv(model.M)
-    a[2:4, 6] = minv[:, 1]  # the rider's steer torque acts on the steer equation
+    a[2:4, 6] = minv[:, 1 if control_input == "steer" else 0]
     cl, w, c = np.cos(geometry.lam_rad), geometry.w_m, geometry.c_m
     a[4, 1] = v * cl / w
     a[4, 3] = c * cl / w
@@ -117,14 +129,14 @@ def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
     b_f = np.zeros((N_STATES, 2))
     b_f[2:4, :] = minv
     cmat = np.zeros((5, N_STATES))
-    cmat[0, 1] = 1.0  # steer
+    cmat[0, 1] = 1.0 if control_input == "steer" else 0.0  # steer
     cmat[1, 2] = 1.0  # roll rate
     cmat[2, 0] = 1.0  # roll
     cmat[3, 4] = 1.0  # heading
     cmat[4, 5] = 1.0  # yQ = yP + w psi - c cos(lam) steer
     cmat[4, 4] = w
     cmat[4, 1] = -c * cl
-    return Plant(a, b_u, b_f, cmat, v)
+    return Plant(a, b_u, b_f, cmat, v, control_input)
 
 
 def control_law(p: Plant, gains: np.ndarray, outer: int = 5) -> tuple[np.ndarray, float]:
