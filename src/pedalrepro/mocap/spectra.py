@@ -40,6 +40,8 @@ from .. import paths
 from . import fetch
 
 REGISTRY_SPECTRA: Path = paths.DATA / "registry_spectra.txt"
+#: Read at run time (pedalrepro.dependencies: the rules' code inputs).
+DATA_FILES: tuple[str, ...] = ("data/registry_spectra.txt",)
 #: How every value from these files is labelled.
 LABEL = "measured (published spectra)"
 #: The all-speed files per coordinate.

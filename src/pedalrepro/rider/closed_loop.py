@@ -24,6 +24,10 @@ from ..response import Harmonics, harmonic_coefficients
 from .gains import DEFAULT_RULES, GainResult, RuleSettings, rule_gains
 from .plant import N_STATES, Geometry, Plant, closed_matrix, plant
 
+#: Read at run time (pedalrepro.dependencies: the rules' code inputs).
+DATA_FILES: tuple[str, ...] = ("data/published/humancontrol_gains.yaml",
+                               "data/parameters/humancontrol_browser.yaml")
+
 #: Models with steer-torque control (hands on the handlebars): the benchmark, the
 #: HumanControl Browser-with-Jason plant, and the thesis's HS and CF.
 STEER_MODELS: tuple[str, ...] = ("benchmark", "humancontrol_browser", "HS", "CF")
