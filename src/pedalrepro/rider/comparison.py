@@ -258,3 +258,28 @@ def report_rows(t42_closed: pd.DataFrame, benchmark_gains_5: np.ndarray,
                                  note="HumanControl generate_data.m rules on the Meijaard "
                                       "benchmark at 5.0 m/s (pedalrepro.rider.gains)"))
     return rows
+
+
+def matching_stiffness(sweep: pd.DataFrame) -> pd.DataFrame:
+    """Per speed and quantity, the smallest steer stiffness (N m/rad) at which the steer-loop-only
+    model's cadence amplitude falls to the measured one (linear interpolation on the sweep of
+    :func:`steer_stiffness_sweep`; NaN where it never does, e.g. a measured amplitude above the
+    open loop's)."""
+    rows = []
+    for v, sub in sweep.groupby("speed_kmh"):
+        sub = sub.sort_values("steer_stiffness_n_m_rad")
+        k = sub.steer_stiffness_n_m_rad.to_numpy()
+        for q in ("roll", "steer"):
+            model = sub[f"{q}_rad"].to_numpy()
+            meas = float(sub[f"{q}_measured_rad"].iloc[0])
+            below = np.nonzero(model <= meas)[0]
+            if below.size == 0:
+                k_match = np.nan
+            elif below[0] == 0:
+                k_match = 0.0
+            else:
+                i = below[0]
+                k_match = float(np.interp(meas, [model[i], model[i - 1]], [k[i], k[i - 1]]))
+            rows.append({"speed_kmh": v, "quantity": q, "measured_rad": meas,
+                         "open_loop_rad": float(model[0]), "steer_stiffness_n_m_rad": k_match})
+    return pd.DataFrame(rows)
