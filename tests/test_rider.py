@@ -91,3 +91,52 @@ def test_closed_loop_particular_solution_matches_time_integration():
         assert amp1 == pytest.approx(abs(q[0]), rel=1e-6)
         steady = np.real(np.exp(1j * np.outer(t, n * w)) @ q)
         assert np.max(np.abs(x - steady)) < 1e-6 * np.max(np.abs(steady))
+
+
+def test_zero_steer_stiffness_is_the_open_loop_particular_solution():
+    """kDelta = 0 with only the steer loop closed: the rider adds nothing (Eq 3.10-3.15)."""
+    from pedalrepro import linear
+    from pedalrepro.rider import comparison
+
+    v, rpm = 25 / 3.6, 64.0
+    sw = comparison.steer_stiffness_sweep("CF", v, rpm, np.array([0.0, 40.0]))
+    h = response.forcing("CF", (1, 3, 5))
+    r, s = response.particular_solution(linear.linear_model("CF"), v, rpm * np.pi / 30, h)
+    assert sw.roll_rad.iloc[0] == pytest.approx(abs(r[0]), rel=1e-9)
+    assert sw.steer_rad.iloc[0] == pytest.approx(abs(s[0]), rel=1e-9)
+    assert sw.steer_rad.iloc[1] < sw.steer_rad.iloc[0]  # a stiffer steer moves less
+
+
+def test_table_4_2_closed_is_median_and_range_of_the_rows():
+    import pandas as pd
+
+    from pedalrepro.rider import comparison
+
+    val = pd.DataFrame({"system": ["CF"] * 6, "source": ["s"] * 6,
+                        "quantity": ["roll"] * 3 + ["steer"] * 3,
+                        "rd_open_percent": [10.0, 30.0, 80.0, 5.0, 7.0, 9.0],
+                        "rd_closed_percent": [1.0, np.nan, 3.0, 2.0, 2.0, 2.0]})
+    t = comparison.table_4_2_closed(val).iloc[0]
+    assert t.n_points == 3
+    assert (t.roll_rd_open_median_percent, t.roll_rd_open_range_percent) == (30.0, 70.0)
+    assert (t.roll_rd_closed_median_percent, t.roll_rd_closed_range_percent) == (2.0, 2.0)
+    assert (t.steer_rd_open_median_percent, t.steer_rd_open_range_percent) == (7.0, 4.0)
+
+
+def test_roll_torque_rider_with_published_roll_gains_is_stable_on_the_benchmark():
+    """HumanControl's roll-input gains (BenchmarkRollGains.txt) stabilise the benchmark at their
+    speeds: the structure of the roll-torque (hands-free stand-in) loop matches theirs."""
+    v = np.array([5.0, 6.0, 8.0, 10.0])
+    g = closed_loop.published_gains("BenchmarkRoll", v)
+    np.testing.assert_allclose(g[:, 1], [55.0, 157.0, 169.0, 171.0])
+    a, _ = closed_loop.closed_loop_matrices("benchmark", v, g, "roll")
+    assert (np.linalg.eigvals(a).real.max(axis=1) < 0).all()
+    assert np.isnan(closed_loop.published_gains("BenchmarkRoll", np.array([4.0]))).all()
+
+
+def test_bad_control_input_names_the_argument():
+    model, geo = closed_loop.model_and_geometry("CF")
+    with pytest.raises(ValueError, match="control_input"):
+        plant.plant(model, geo, 5.0, control_input="lean")
+    with pytest.raises(KeyError, match="unknown rider-control model"):
+        closed_loop.model_and_geometry("nonexistent_bicycle")
