@@ -7,7 +7,8 @@ CLOSED_LOOP = config["closed_loop"]
 CLOSED_LOOP_MAPS = [interm(f"closed_loop/map_{m}.npz") for m in CLOSED_LOOP["map_models"]]
 CLOSED_LOOP_TABLES = [table("closed_loop_validation"), table("rider_gains"),
                       table("table_4_2_closed_loop"), table("steer_stiffness")]
-CLOSED_LOOP_FIGURES = [figure("closed_loop_validation"), figure("closed_loop_gains")]
+CLOSED_LOOP_FIGURES = [figure("closed_loop_validation"), figure("closed_loop_gains"),
+                       figure("closed_loop_maps"), figure("closed_loop_time")]
 
 
 rule closed_loop_gains:
@@ -56,6 +57,7 @@ rule closed_loop_validation:
         validation=table("closed_loop_validation"),
         t42=table("table_4_2_closed_loop"),
         stiffness=table("steer_stiffness"),
+        time=interm("closed_loop/time_CF.npz"),
         report=f"{R}/tables/report/closed_loop.csv",
     params:
         closed_loop=CLOSED_LOOP,
@@ -73,17 +75,19 @@ rule closed_loop_figures:
         code=code_inputs("scripts/closed_loop_figures.py"),
         validation=table("closed_loop_validation"),
         eigen=interm("closed_loop/eigen.npz"),
+        maps=CLOSED_LOOP_MAPS,
+        time=interm("closed_loop/time_CF.npz"),
     output:
         CLOSED_LOOP_FIGURES,
     log:
         logfile("closed_loop_figures"),
     message:
-        "Figures of the closed loop: open vs closed vs measured, gains and eigenvalues"
+        "Figures of the closed loop: open vs closed vs measured, gains and eigenvalues, maps"
     script:
         "scripts/closed_loop_figures.py"
 
 
 REPORT_PARTS.append(f"{R}/tables/report/closed_loop.csv")
 BOOK_INPUTS.extend(CLOSED_LOOP_TABLES + CLOSED_LOOP_MAPS + CLOSED_LOOP_FIGURES
-                   + [interm("closed_loop/eigen.npz"), interm("closed_loop/spectra.csv"),
+                   + [interm("closed_loop/eigen.npz"), interm("closed_loop/time_CF.npz"), interm("closed_loop/spectra.csv"),
                       interm("closed_loop/spectra.json")])

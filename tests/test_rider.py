@@ -140,3 +140,26 @@ def test_bad_control_input_names_the_argument():
         plant.plant(model, geo, 5.0, control_input="lean")
     with pytest.raises(KeyError, match="unknown rider-control model"):
         closed_loop.model_and_geometry("nonexistent_bicycle")
+
+
+def test_closed_loop_time_history_matches_solve_ivp_from_rest():
+    """The analytic closed-loop time history (particular + homogeneous) against solve_ivp."""
+    from scipy.integrate import solve_ivp
+
+    v, w = 20 / 3.6, 70 * np.pi / 30
+    harm = response.forcing("CF", (1, 3, 5))
+    k = closed_loop.rule_gains_at("CF", v).gains
+    t = np.linspace(0.0, 8.0, 801)
+    roll, steer = closed_loop.closed_loop_time("CF", v, k, w, harm, t)
+    a_cl, p = closed_loop.closed_loop_matrices("CF", np.array([v]), k[None])
+    n, coef = response.harmonic_coefficients(harm)
+    force = p.B_f @ coef.T
+
+    def rhs(tt, x):
+        return a_cl[0] @ x + np.real(force @ ((n * w) ** 2 * np.exp(1j * n * w * tt)))
+
+    sol = solve_ivp(rhs, (0.0, t[-1]), np.zeros(plant.N_STATES), t_eval=t, rtol=1e-11,
+                    atol=1e-14, method="DOP853")
+    assert abs(roll[0]) < 1e-15 and abs(steer[0]) < 1e-15
+    for got, ref in ((roll, sol.y[0]), (steer, sol.y[1])):
+        assert np.max(np.abs(got - ref)) < 1e-6 * np.max(np.abs(ref))

@@ -7,8 +7,8 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pedalrepro import params, report
-from pedalrepro.rider import comparison
+from pedalrepro import linear, params, report, response
+from pedalrepro.rider import closed_loop, comparison
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 c = snakemake.params.closed_loop
@@ -39,6 +39,24 @@ stiff = (pd.concat(sweeps, ignore_index=True) if sweeps else pd.DataFrame(
     columns=["system", "speed_m_s", "cadence_rpm", "steer_stiffness_n_m_rad", "roll_rad",
              "steer_rad", "stable", "speed_kmh", "roll_measured_rad", "steer_measured_rad"]))
 stiff.to_csv(snakemake.output.stiffness, index=False, float_format="%.6g")
+# closed-loop (and open-loop LA) time histories from rest at the CF spectra's example speeds
+t = response.time_samples(c["time_duration_s"], c["time_sample_rate_hz"])
+h = response.forcing("CF", snakemake.params.harmonics)
+series = {"t_s": t}
+for v_kmh in c["stiffness_speeds_kmh"]:
+    hit = spectra_table[np.isclose(spectra_table.speed_kmh, v_kmh)]
+    if hit.empty:
+        continue
+    v, rpm = v_kmh / 3.6, float(hit.iloc[0].cadence_rpm)
+    g, stable, control = comparison.rider_gains("CF", np.array([v]))
+    roll, steer = closed_loop.closed_loop_time("CF", v, g[0], rpm * np.pi / 30, h, t, control)
+    la = response.analytic_time_solution(linear.linear_model("CF"), np.array([v]),
+                                         np.array([rpm * np.pi / 30]), h, t)
+    key = f"CF_{v_kmh:g}"
+    series.update({f"{key}_closed_roll_rad": roll, f"{key}_closed_steer_rad": steer,
+                   f"{key}_open_roll_rad": la.roll_rad[0, 0], f"{key}_open_steer_rad":
+                   la.steer_rad[0, 0], f"{key}_cadence_rpm": rpm, f"{key}_stable": stable[0]})
+np.savez(snakemake.output.time, **series)
 gains = pd.read_csv(snakemake.input.gains)
 bench = gains[(gains.model == "benchmark") & np.isclose(gains.speed_m_s, 5.0)
               & gains.source.str.startswith("rules")]

@@ -82,6 +82,66 @@ def fig_gains(eigen: Mapping[str, np.ndarray], models: Sequence[str] | None = No
     return fig
 
 
+def fig_maps(maps: Mapping[str, Mapping[str, np.ndarray]]) -> plt.Figure:
+    """Closed-loop cadence amplitude maps (roll, steer) over speed and cadence per model, as a
+    ratio to the open loop's (PS): below 1 the rider reduces the pedalling response. Speeds where
+    the closed loop is unstable (or has no gains) are greyed out."""
+    from matplotlib.colors import LogNorm
+
+    models = list(maps)
+    fig, axes = plt.subplots(2, len(models), figsize=(7.0, 4.2), sharex=True, sharey=True,
+                             constrained_layout=True, squeeze=False)
+    norm = LogNorm(0.1, 10.0)
+    mesh = None
+    for j, m in enumerate(models):
+        d = maps[m]
+        v, w = d["speed_m_s"], d["omega_rad_s"]
+        for i, q in enumerate(("roll", "steer")):
+            ax = axes[i, j]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = d[f"{q}_amp_rad"] / d[f"open_{q}_amp_rad"]
+            ratio = np.where(np.asarray(d["stable"], bool)[:, None] & np.isfinite(ratio)
+                             & (ratio > 0), ratio, np.nan)
+            mesh = ax.pcolormesh(v, w, np.clip(ratio, 0.1, 10.0).T, norm=norm, cmap="RdBu_r",
+                                 shading="nearest")
+            ax.set_facecolor("0.85")
+            ax.set_title(f"{m} {q}", fontsize=9)
+            if j == 0:
+                ax.set_ylabel("cadence (rad/s)")
+            if i == 1:
+                ax.set_xlabel("speed (m/s)")
+    fig.colorbar(mesh, ax=axes, shrink=0.8, label="closed / open loop amplitude")
+    return fig
+
+
+def fig_time(series: Mapping[str, np.ndarray]) -> plt.Figure:
+    """CF roll and steer from rest, open loop (LA) and closed loop, at the example speeds (the
+    axis spans three times the closed loop's largest value: the unstable open loop leaves it)."""
+    t = series["t_s"]
+    keys = sorted({k.removesuffix("_closed_roll_rad") for k in series
+                   if k.endswith("_closed_roll_rad")}, key=lambda k: float(k.split("_")[1]))
+    fig, axes = plt.subplots(len(keys), 2, figsize=(7.0, 1.6 + 1.5 * len(keys)), sharex=True,
+                             constrained_layout=True, squeeze=False)
+    for i, key in enumerate(keys):
+        for j, q in enumerate(("roll", "steer")):
+            ax = axes[i, j]
+            ax.plot(t, series[f"{key}_open_{q}_rad"], color="0.45", ls="--", lw=1.0,
+                    label="open loop (LA)")
+            ax.plot(t, series[f"{key}_closed_{q}_rad"], color=MODEL_COLOURS["CF"], lw=1.1,
+                    label="closed loop")
+            # the unstable open loop grows without bound: the axis follows the closed loop
+            lim = 3.0 * np.nanmax(np.abs(series[f"{key}_closed_{q}_rad"]))
+            ax.set_ylim(-lim, lim)
+            ax.set_title(f"CF {key.split('_')[1]} km/h, "
+                         f"{float(series[f'{key}_cadence_rpm']):.0f} rpm: {q}", fontsize=9)
+            ax.set_ylabel(f"{q} (rad)")
+            ax.grid(True, alpha=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("time (s)")
+    axes[0, 0].legend(fontsize=8)
+    return fig
+
+
 def draw_all(inputs, outputs: Sequence[str]) -> None:
     """Draw and save the figures of ``rules/closed_loop.smk`` (matched to ``outputs`` by name)."""
     from pathlib import Path
@@ -92,3 +152,6 @@ def draw_all(inputs, outputs: Sequence[str]) -> None:
     with style():
         save(fig_validation(pd.read_csv(inputs.validation)), named["closed_loop_validation"])
         save(fig_gains(dict(np.load(inputs.eigen))), named["closed_loop_gains"])
+        maps = {str(Path(f).stem).removeprefix("map_"): dict(np.load(f)) for f in inputs.maps}
+        save(fig_maps(maps), named["closed_loop_maps"])
+        save(fig_time(dict(np.load(inputs.time))), named["closed_loop_time"])

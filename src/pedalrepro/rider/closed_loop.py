@@ -182,3 +182,29 @@ def closed_loop_particular(name: str, speed_m_s: np.ndarray, gains: np.ndarray,
     x = np.where(bad[..., None], np.nan, x)
     x = np.where((freq == 0)[None, :, :, None], 0.0, x)
     return x[..., 0], x[..., 1]
+
+
+def closed_loop_time(name: str, speed_m_s: float, gains: np.ndarray, omega_rad_s: float,
+                     harmonics: Harmonics, t_s: np.ndarray, control_input: str = "steer"
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-loop time history from rest: particular + homogeneous solution (as LA, Eq 3.9,
+    3.16-3.18, with the closed-loop state matrix), roll and steer (rad) at ``t_s``.
+
+    ``x(t) = Re sum_k X_k exp(i n_k w t) + sum_i c_i xi_i exp(lambda_i t)`` with ``c`` such
+    that ``x(0) = 0``; ``X_k`` from :func:`closed_loop_particular`.
+    """
+    n, coef = harmonic_coefficients(harmonics)
+    a_cl, p = closed_loop_matrices(name, np.array([speed_m_s]), np.asarray(gains)[None],
+                                   control_input)
+    freq = omega_rad_s * n
+    eye = np.eye(N_STATES)
+    xk = np.stack([np.linalg.solve(1j * f * eye - a_cl[0], p.B_f @ c * f**2)
+                   for f, c in zip(freq, coef, strict=True)])  # (k, 8)
+    t = np.asarray(t_s, float)
+    xp = np.real(np.exp(1j * np.outer(t, freq)) @ xk)  # (n_t, 8)
+    lam, vec = np.linalg.eig(a_cl[0])
+    c0 = np.linalg.solve(vec, -xp[0])
+    expo = np.minimum(np.outer(t, lam).real, 700.0) + 1j * np.outer(t, lam).imag
+    xh = np.real((np.exp(expo) * c0) @ vec.T)
+    x = xp + xh
+    return x[:, 0], x[:, 1]
