@@ -25,8 +25,10 @@ except (fetch.DataUnavailableError, fetch.HashMismatchError) as exc:
                                   "steer_nearest_rad", "steer_peak2_rad", "yaw_nearest_rad",
                                   "yaw_peak2_rad", "source"])
     status = {"available": False, "label": spectra.LABEL, "events": events,
-              "reason": f"the measured spectra (data/registry_spectra.txt) are not in the data "
-                        f"folder {fetch.data_dir()} and cannot be downloaded: {exc}"}
+              "reason": "the measured spectra (data/registry_spectra.txt) are not in the data "
+                        f"folder (${fetch.ENV}) and cannot be downloaded "
+                        f"({type(exc).__name__})"}
+    print(f"spectra unavailable: {exc}", file=sys.stderr)
     arrays = {}
 print(json.dumps(status, indent=1), file=sys.stderr)
 table.to_csv(snakemake.output.table, index=False, float_format="%.8g")

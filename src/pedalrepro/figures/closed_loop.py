@@ -120,6 +120,12 @@ def fig_time(series: Mapping[str, np.ndarray]) -> plt.Figure:
     t = series["t_s"]
     keys = sorted({k.removesuffix("_closed_roll_rad") for k in series
                    if k.endswith("_closed_roll_rad")}, key=lambda k: float(k.split("_")[1]))
+    if not keys:  # the measured spectra (their speeds and cadences) are not in this build
+        fig, ax = plt.subplots(figsize=(7.0, 1.5))
+        ax.axis("off")
+        ax.text(0.5, 0.5, "No CF example: the measured spectra are not in this build's data "
+                "folder", ha="center", va="center", fontsize=9)
+        return fig
     fig, axes = plt.subplots(len(keys), 2, figsize=(7.0, 1.6 + 1.5 * len(keys)), sharex=True,
                              constrained_layout=True, squeeze=False)
     for i, key in enumerate(keys):
