@@ -163,3 +163,17 @@ def test_closed_loop_time_history_matches_solve_ivp_from_rest():
     assert abs(roll[0]) < 1e-15 and abs(steer[0]) < 1e-15
     for got, ref in ((roll, sol.y[0]), (steer, sol.y[1])):
         assert np.max(np.abs(got - ref)) < 1e-6 * np.max(np.abs(ref))
+
+
+def test_inner_damping_rule_has_no_solution_on_the_roll_torque_input():
+    """Why the hands-free stand-in uses published gains: closing the roll-rate loop on the roll
+    torque, the lightly damped closed-loop pair stays at damping 0.16-0.18 for kPhiDot 10-300
+    (benchmark, 5 m/s), never the rule's 0.0855."""
+    model, geo = closed_loop.model_and_geometry("benchmark")
+    p = plant.plant(model, geo, 5.0, control_input="roll")
+    damping = []
+    for k in np.geomspace(10.0, 300.0, 25):
+        lam = np.linalg.eigvals(plant.closed_matrix(p, np.array([1.0, k, 0, 0, 0]), 2))
+        lam = lam[lam.imag > 0.5]
+        damping.append(np.min(-lam.real / np.abs(lam)))
+    assert 0.16 < min(damping) and max(damping) < 0.18
