@@ -464,7 +464,7 @@ def _rules(script_names):
       "nonlinear_time", "own_bicycle_resonance", "periodic_map", "periodic_branch",
       "periodic_tables"}),
     # the C driver: every rule compiling or loading the non-linear model
-    ("src/pedalrepro/nonlinear/rhs_driver.c",
+    ("src/pedalrepro/csrc/model_rhs.h",
      {"nonlinear_codegen_variant", "nonlinear_calibration", "nonlinear_linearisation",
       "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_branch",
       "periodic_tables"}),
