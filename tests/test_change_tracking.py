@@ -471,7 +471,7 @@ def _rules(script_names):
     # the figure style: every figure rule and the book (notebooks draw figures)
     ("src/pedalrepro/pedalrepro.mplstyle",
      {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
-      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "periodic_figures",
+      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "figures_periodic",
       "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
     ("data/parameters/validation_runs.yaml",
