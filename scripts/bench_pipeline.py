@@ -202,6 +202,11 @@ def report(build: Build, per_job: bool = False) -> str:
     total = sum(r["job_s"] for r in rows)
     cpu = sum(r["cpu_s"] for r in rows)
     lines.append(f"{'total':<22}{sum(r['jobs'] for r in rows):>5}{total:>14.1f}{cpu:>10.1f}")
+    wing = [r for r in rows if r["group"].startswith("periodic")]
+    if wing:
+        lines.append(f"{'periodic wing':<22}{sum(r['jobs'] for r in wing):>5}"
+                     f"{sum(r['job_s'] for r in wing):>14.1f}{sum(r['cpu_s'] for r in wing):>10.1f}"
+                     "  (maps, branches, tables, figures)")
     loads = [j.load for j in build.jobs if j.load == j.load]
     if loads:
         lines.append(f"mean load during the jobs (Snakemake's mean_load, % of one core): "

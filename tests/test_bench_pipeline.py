@@ -70,12 +70,14 @@ def test_hand_made_build(tmp_path):
     assert rows["periodic maps"]["job_s"] == pytest.approx(50.0)
     assert rows["periodic maps"]["cpu_s"] == pytest.approx(48.0)
     assert rows["derivation (once)"]["job_s"] == pytest.approx(10.0)
-    assert rows["figures"]["share_pct"] == pytest.approx(100 * 5 / 65)
+    assert rows["periodic figures"]["share_pct"] == pytest.approx(100 * 5 / 65)
     path = bench.critical_path(build.jobs)
     assert [j.name for j in path] == ["nonlinear_codegen_plain", "periodic_map_thesis_NT_HR",
                                       "figures_periodic"]
     text = bench.report(build)
     assert "Critical path (45.0 s" in text and "Wall time of the build: 45 s" in text
+    wing = next(line for line in text.splitlines() if line.startswith("periodic wing"))
+    assert wing.split()[2:5] == ["3", "55.0", "52.0"]  # two maps and the periodic figures
 
 
 def test_not_a_log_is_refused(tmp_path):
