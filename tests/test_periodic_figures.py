@@ -78,3 +78,36 @@ def test_beyond_thesis_label(fid):
     assert "Beyond the thesis" in html and f"../figures/{fid}.pdf" in html
     with pytest.raises(ValueError, match="not fig_"):
         figures.thesis_label("no_such_figure")
+
+
+def test_thesis_map_cut_out_of_the_finer_grid(tmp_path):
+    """write_submap: the thesis-grid map (0.4 m/s, 0.5 rad/s) taken from the finer grid (0.2 m/s,
+    0.25 rad/s) holds exactly the finer map's values at the thesis points, on the thesis grid as
+    response.grid makes it (bit for bit: the simulation sweeps' grid); a grid that does not nest
+    is refused naming the file."""
+    from pedalrepro import periodic, response
+
+    fine_grid = dict(speed_step_m_s=0.2, speed_max_m_s=10.0, omega_step_rad_s=0.25,
+                     omega_max_rad_s=4 * np.pi)
+    thesis_grid = dict(speed_step_m_s=0.4, speed_max_m_s=10.0, omega_step_rad_s=0.5,
+                       omega_max_rad_s=4 * np.pi)
+    assert periodic.nested(thesis_grid, fine_grid)
+    assert not periodic.nested(dict(thesis_grid, speed_step_m_s=0.3), fine_grid)
+    v, w = response.grid(0.2, 10.0), response.grid(0.25, 4 * np.pi)
+    vv, ww = np.meshgrid(v, w, indexing="ij")
+    fine = {"speed_m_s": v, "omega_rad_s": w, "model": "HR", "method": "NT", "rtol": 1e-9,
+            "elapsed_s": 99.0, "roll_amp_rad": vv + 100 * ww, "orbit_time_s": np.ones(vv.shape),
+            "multipliers": (vv + 1j * ww)[..., None] * np.ones(4)}
+    path = tmp_path / "fine.npz"
+    np.savez(path, **fine)
+    out = periodic.write_submap(tmp_path / "thesis.npz", path, **thesis_grid)
+    tv, tw = response.grid(0.4, 10.0), response.grid(0.5, 4 * np.pi)
+    assert np.array_equal(out["speed_m_s"], tv) and np.array_equal(out["omega_rad_s"], tw)
+    tvv, tww = np.meshgrid(tv, tw, indexing="ij")
+    np.testing.assert_allclose(out["roll_amp_rad"], tvv + 100 * tww, rtol=0, atol=1e-12)
+    assert out["multipliers"].shape == (tv.size, tw.size, 4)
+    assert out["elapsed_s"] == tv.size * tw.size and str(out["model"]) == "HR"
+    with np.load(tmp_path / "thesis.npz") as d:
+        assert np.array_equal(d["roll_amp_rad"], out["roll_amp_rad"])
+    with pytest.raises(ValueError, match="fine.npz"):
+        periodic.write_submap(tmp_path / "x.npz", path, **dict(thesis_grid, speed_step_m_s=0.3))
