@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import linear
-from .solver import ConvergenceError, Orbit, OrbitSolver, _Adapter
+from .solver import ConvergenceError, Orbit, OrbitSolver, own_linearisation
 
 
 @dataclass
@@ -259,7 +259,7 @@ def write_branches(path, model: str, methods, cadence_rpm: float, speed_range_m_
                                  max_growth=max_growth, torque_scale=float(scale))
             branches.append(br)
             arrays.update(br.arrays(f"{method}_{k}_"))
-    lin = _Adapter.own_linearisation(model)
+    lin = own_linearisation(model)
     ranges = linear.stable_ranges(lin, np.arange(0.0, hi + 2 * eigen_step_m_s, eigen_step_m_s))
     np.savez_compressed(path, model=model, omega_rad_s=w, cadence_rpm=float(cadence_rpm),
                         methods=np.array(list(methods)),

@@ -169,6 +169,12 @@ class _Adapter:
         return fill_forcing(fc, nl, harmonics, omega_rad_s)
 
 
+def own_linearisation(model: str) -> LinearModel:
+    """Eq 3.1 matrices of ``model``'s NT model linearised about upright motion (complex step;
+    cached): the linear reference of the orbits (PS start, stability boundaries)."""
+    return _Adapter.own_linearisation(model)
+
+
 _FLOW_ERRORS = {-1: "non-finite state or singular system", -2: "step size underflow",
                 -3: "too many steps", -4: "too many variational columns"}
 

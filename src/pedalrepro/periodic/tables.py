@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import linear
-from .solver import _Adapter
+from .solver import own_linearisation
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -108,7 +108,7 @@ def simulation_comparison(orbit_maps, time_maps, eigen_step_m_s: float = 0.01) -
         v, w = np.asarray(o["speed_m_s"]), np.asarray(o["omega_rad_s"])
         if not (np.array_equal(v, s["speed_m_s"]) and np.array_equal(w, s["omega_rad_s"])):
             raise ValueError(f"orbit and simulation grids of {model} {method} differ")
-        lin = _Adapter.own_linearisation(model)
+        lin = own_linearisation(model)
         ranges = linear.stable_ranges(lin, np.arange(0.0, v.max() + 2 * eigen_step_m_s,
                                                      eigen_step_m_s))
         stable_v = np.zeros(v.shape, bool)
@@ -136,7 +136,7 @@ def simulation_comparison(orbit_maps, time_maps, eigen_step_m_s: float = 0.01) -
             continue
         v = np.asarray(orbit[(model, "NT")]["speed_m_s"])
         w = np.asarray(orbit[(model, "NT")]["omega_rad_s"])
-        lin = _Adapter.own_linearisation(model)
+        lin = own_linearisation(model)
         stable_v = np.zeros(v.shape, bool)
         for lo, hi in linear.stable_ranges(lin, np.arange(0.0, v.max() + 0.02, 0.01)):
             stable_v |= (v > lo) & (v < hi)
