@@ -17,7 +17,7 @@ Reads (nothing is written):
 Prints the job time by rule group (:data:`GROUPS`), the critical path (the chain of jobs, each
 needing an output of the previous one, with the largest sum of job times: the wall time with
 unlimited cores) and the wall time. On a shared machine the job times grow with the load; the
-CPU times do not (the table shows both, and the mean load Snakemake recorded).
+CPU times do not (the table shows both, and the jobs' mean CPU use Snakemake recorded).
 """
 
 from __future__ import annotations
@@ -209,8 +209,8 @@ def report(build: Build, per_job: bool = False) -> str:
                      "  (maps, branches, tables, figures)")
     loads = [j.load for j in build.jobs if j.load == j.load]
     if loads:
-        lines.append(f"mean load during the jobs (Snakemake's mean_load, % of one core): "
-                     f"{sum(loads) / len(loads):.0f}")
+        lines.append(f"mean CPU use of a job (Snakemake's mean_load, % of one core; far below "
+                     f"100: a loaded machine): {sum(loads) / len(loads):.0f}")
     path = critical_path(build.jobs)
     lines += ["", f"Critical path ({sum(j.seconds for j in path):.1f} s of job time):"]
     lines += [f"  {j.seconds:8.1f} s  {j.name}" for j in path]
