@@ -19,6 +19,8 @@ rule write_config:
         config=json.dumps(config, sort_keys=True),
     log:
         logfile("write_config"),
+    benchmark:
+        bench("write_config")
     message:
         "The configuration in effect -> {output} (notebooks read this copy)"
     script:
@@ -36,6 +38,8 @@ rule mathjax:
         MATHJAX,
     log:
         logfile("mathjax"),
+    benchmark:
+        bench("mathjax")
     message:
         "Copying the vendored MathJax 3 (node_modules, from `npm ci`) into book/_mathjax"
     shell:
@@ -67,6 +71,8 @@ rule book:
         tables=lambda wildcards: str(_paths.tables(R)),
     log:
         logfile("book"),
+    benchmark:
+        bench("book")
     message:
         "Building the jupyter-book (strict) into {params.out}/_build/html (log: {log})"
     # Every figure in the book links its full-size PNG and its PDF, served from

@@ -17,6 +17,7 @@ CLUSTER_LOCAL_RULES = sorted(
         "write_config",  # the config copy the notebooks read (rules/book.smk)
         "nonlinear_codegen",  # cat of the four variant stamps
         "nonlinear_time",  # joins the sweep chunks (reads only, under 1 s)
+        "periodic_map_subgrid",  # cuts the thesis-grid map out of the finer one (reads only)
         "mocap_runs",  # downloads the treadmill data (compute nodes often have no network)
         "section2_table_d_1",
         "section2_numbers",

@@ -22,6 +22,8 @@ rule linear_figure_data:
         linear=cfg("linear", *FIGDATA.LINEAR_KEYS),
     log:
         logfile("linear_figure_data"),
+    benchmark:
+        bench("linear_figure_data")
     message:
         "Arrays of Figs 3.8, 3.30, 3.31, F.1-F.3, 3.36 and G.8 (CAM, neglected momenta, gears)"
     script:
@@ -42,6 +44,8 @@ rule validation_figure_data:
         examples=config["mocap"]["example_runs_per_system"],
     log:
         logfile("validation_figure_data"),
+    benchmark:
+        bench("validation_figure_data")
     message:
         "Model maps and series of the example runs of Figs 4.2-4.10 and of the REAL run"
     script:
@@ -66,6 +70,8 @@ for _group in FIGURE_REGISTRY.groups():
             time_methods=lambda wc: list(TIME_METHODS),
         log:
             logfile(f"figures_{_group}"),
+        benchmark:
+            bench(f"figures_{_group}")
         message:
             f"Figures of group {_group} (pedalrepro.figures.registry)"
         script:

@@ -20,6 +20,8 @@ rule linear_eigen:
         eigen_speeds=EIGEN_SPEEDS,
     log:
         logfile("linear_eigen"),
+    benchmark:
+        bench("linear_eigen")
     message:
         "Eigenvalues vs speed, weave/capsize speeds and self-stable ranges of {params.models}"
     script:
@@ -113,6 +115,8 @@ rule linear_rd:
         normal_cycling=cfg("linear", "normal_cycling_speed_kmh", "normal_cycling_cadence_rpm"),
     log:
         logfile("linear_rd"),
+    benchmark:
+        bench("linear_rd")
     message:
         "Relative-difference maps of evaluation points 1c, 2b, 3a, 3b, 4, 5, 6 (Eq 3.26)"
     script:
@@ -130,6 +134,8 @@ rule linear_table_4_1:
         harmonics=HARMONICS,
     log:
         logfile("linear_table_4_1"),
+    benchmark:
+        bench("linear_table_4_1")
     message:
         "Table 4.1 model columns: particular solution at the seven hands-free runs"
     script:
@@ -156,6 +162,8 @@ rule linear_report:
                 "ps_omega_max_rad_s", "duration_s", "sample_rate_hz", "rtol", "atol"),
     log:
         logfile("linear_report"),
+    benchmark:
+        bench("linear_report")
     message:
         "Reproduction report rows of the linear part"
     script:

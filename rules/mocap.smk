@@ -68,6 +68,8 @@ rule validation_tables:
         report=f"{R}/tables/report/mocap.csv",
     log:
         logfile("validation_tables"),
+    benchmark:
+        bench("validation_tables")
     message:
         "Tables 4.1 and 4.2: measured vs open-loop model cadence amplitudes"
     script:

@@ -51,6 +51,8 @@ rule nonlinear_codegen:
         interm("nonlinear/codegen.txt"),
     log:
         logfile("nonlinear_codegen"),
+    benchmark:
+        bench("nonlinear_codegen")
     message:
         "All non-linear model variants generated"
     shell:
@@ -69,6 +71,8 @@ rule nonlinear_calibration:
         models=NONLINEAR_MODELS,
     log:
         logfile("nonlinear_calibration"),
+    benchmark:
+        bench("nonlinear_calibration")
     message:
         "Calibrating the frames of {params.models} to thesis Appendix B (legs at crank angle 0)"
     script:
@@ -93,6 +97,8 @@ rule nonlinear_linearisation:
         eigen_speeds=EIGEN_SPEEDS,
     log:
         logfile("nonlinear_linearisation"),
+    benchmark:
+        bench("nonlinear_linearisation")
     message:
         "Linearising the non-linear benchmark and {params.models} models; Fig E.1; energy check"
     script:
@@ -172,6 +178,8 @@ rule nonlinear_rd:
         fall_roll_rad=config["nonlinear"]["fall_roll_rad"],
     log:
         logfile("nonlinear_rd"),
+    benchmark:
+        bench("nonlinear_rd")
     message:
         "RD maps of the non-linear evaluation points 1a, 1b and PS vs NP (Fig 3.34)"
     script:
@@ -190,6 +198,8 @@ rule nonlinear_report:
         report=f"{R}/tables/report/nonlinear.csv",
     log:
         logfile("nonlinear_report"),
+    benchmark:
+        bench("nonlinear_report")
     message:
         "Report rows of the non-linear part: linearisation, 1a, 1b, 2a, PS vs NP"
     script:

@@ -9,6 +9,8 @@ rule reproduction_report:
         table("reproduction_report"),
     log:
         logfile("reproduction_report"),
+    benchmark:
+        bench("reproduction_report")
     message:
         "Joining {n} report parts into the reproduction report".format(n=len(REPORT_PARTS))
     script:

@@ -14,6 +14,8 @@ rule section2_table_d_1:
         harmonics=config["section2"]["harmonics"],
     log:
         logfile("section2_table_d_1"),
+    benchmark:
+        bench("section2_table_d_1")
     message:
         "Table D.1: Fourier coefficients of the leg COM (dual four-bar), 4 cases"
     script:
@@ -32,6 +34,8 @@ rule section2_disturbance:
         bicycle="hybrid|city",
     log:
         logfile("section2_disturbance_{bicycle}"),
+    benchmark:
+        bench("section2_disturbance_{bicycle}")
     message:
         "Leg kinematics, d'Alembert forces and torques of the {wildcards.bicycle} bicycle"
     script:
@@ -49,6 +53,8 @@ rule section2_numbers:
         bicycles=SECTION2_BICYCLES,
     log:
         logfile("section2_numbers"),
+    benchmark:
+        bench("section2_numbers")
     message:
         "Section 2 numbers: NRMSD (Eq 2.5), force amplitudes, O vs W, reach of the city leg"
     script:
@@ -64,6 +70,8 @@ rule section2_report:
         report=f"{R}/tables/report/section2.csv",
     log:
         logfile("section2_report"),
+    benchmark:
+        bench("section2_report")
     message:
         "Reproduction report rows of Section 2 and Table D.1"
     script:

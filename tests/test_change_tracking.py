@@ -472,17 +472,17 @@ def _rules(script_names):
     # own_bicycle.py (Jason rides the "Your own bicycle" example), and nothing else
     ("data/parameters/bicycleparameters/riders/Jason/RawData/JasonYeadonMeas.txt",
      {"nonlinear_calibration", "nonlinear_linearisation", "nonlinear_time_chunk",
-      "nonlinear_time", "own_bicycle_resonance", "periodic_map", "periodic_branch",
-      "periodic_tables"}),
+      "nonlinear_time", "own_bicycle_resonance", "periodic_map", "periodic_map_subgrid",
+      "periodic_branch", "periodic_tables"}),
     # the C driver: every rule compiling or loading the non-linear model
-    ("src/pedalrepro/nonlinear/rhs_driver.c",
+    ("src/pedalrepro/csrc/model_rhs.h",
      {"nonlinear_codegen_variant", "nonlinear_calibration", "nonlinear_linearisation",
-      "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_branch",
-      "periodic_tables"}),
+      "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_map_subgrid",
+      "periodic_branch", "periodic_tables"}),
     # the figure style: every figure rule and the book (notebooks draw figures)
     ("src/pedalrepro/pedalrepro.mplstyle",
      {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
-      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "periodic_figures",
+      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "figures_periodic",
       "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
     ("data/parameters/validation_runs.yaml",

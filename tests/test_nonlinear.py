@@ -76,27 +76,30 @@ def test_derivation_is_cached(benchmark_model, monkeypatch):
 
 def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, monkeypatch,
                                                              tmp_path):
-    """Editing the driver or the integrator C changes the library, never the derivation key:
-    the library is rebuilt from the cached generated C (derive() is not called)."""
+    """Editing a shared header of the hand-written C (pedalrepro/csrc) changes the library, never
+    the derivation key: the library is rebuilt from the cached generated C (derive() is not
+    called)."""
+    import shutil
+
+    from pedalrepro.integrator import build
     from pedalrepro.nonlinear import library
 
     options = model.ModelOptions()
     key, so = codegen.cache_key(options), library.compiled_library(options)
     if so is None:
         skip_unless_required(CC, "no C compiler")
-    edited = tmp_path / "rhs_driver.c"
-    edited.write_text(library.RHS_DRIVER_C.read_text() + "\n/* an edit */\n")
+    edited = tmp_path / "csrc"
+    shutil.copytree(build.CSRC, edited)
+    (edited / "lu.h").write_text((edited / "lu.h").read_text() + "\n/* an edit */\n")
 
     def boom(*args, **kwargs):
         raise AssertionError("re-derived although only hand-written C changed")
 
     monkeypatch.setattr(model, "derive", boom)
-    monkeypatch.setattr(library, "RHS_DRIVER_C", edited)
-    rebuilt = library.compiled_library(options)
+    rebuilt = library.compiled_library(options, csrc=edited)
     assert codegen.cache_key(options) == key
     assert rebuilt != so and rebuilt.exists() and rebuilt.name.startswith(key)
     rebuilt.unlink()
-    rebuilt.with_suffix(".c").unlink()
 
 
 @pytest.mark.parametrize(("name", "options", "steer"), [

@@ -3,8 +3,10 @@
 import sys
 
 from pedalrepro import periodic
+from pedalrepro.nonlinear import calibration
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
+calibration.use_file(snakemake.input.calibration)  # frames calibrated to Appendix B
 p = snakemake.params
 branches = periodic.write_branches(snakemake.output[0], snakemake.wildcards.model, p.methods,
                                    p.cadence_rpm, p.speed_range_m_s, p.torque_scales, ds=p.ds,

@@ -28,12 +28,21 @@ from .page import (  # noqa: F401  (the package's public names)
 
 def thesis_label(figure_id: str) -> str:
     """Thesis number of a figure/table id: ``"fig_2_3"`` -> ``"Figure 2.3"``, ``"table_d_1"`` ->
-    ``"Table D.1"``."""
+    ``"Table D.1"``; a registered figure that is not the thesis's (``periodic_maps_HR``,
+    :data:`.registry.FIGURES`) -> ``"Beyond the thesis"``."""
     kind, _, number = figure_id.partition("_")
     if kind not in ("fig", "table") or not number:
+        from .registry import FIGURES
+
+        if figure_id in FIGURES:
+            return BEYOND_THESIS
         raise ValueError(f"figure id {figure_id!r} is not fig_<chapter>_<n> or table_<chapter>_<n>")
     parts = [p.upper() if p.isalpha() else p for p in number.split("_")]
     return ("Table " if kind == "table" else "Figure ") + ".".join(parts)
+
+
+#: The label of a registered figure that the thesis does not have (:func:`thesis_label`).
+BEYOND_THESIS = "Beyond the thesis"
 
 
 #: Where the book serves the figure files, relative to a chapter page (``notebooks/*.html``):
@@ -57,7 +66,8 @@ def figure_html(figure_id: str, png: bytes | None = None, *, table_html: str | N
     import html
 
     label = thesis_label(figure_id)
-    cap = f"<strong>{label} of the thesis</strong> (<code>{figure_id}</code>)"
+    lead = label if label == BEYOND_THESIS else f"{label} of the thesis"
+    cap = f"<strong>{lead}</strong> (<code>{figure_id}</code>)"
     if caption:
         cap += ". " + html.escape(caption)
     if png is not None:

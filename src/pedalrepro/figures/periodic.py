@@ -1,7 +1,8 @@
 """Figures of the periodic orbits of the non-linear models (beyond the thesis, issue 14).
 
 Inputs are the arrays written by :mod:`pedalrepro.periodic` (``results/intermediate/periodic``)
-and the NT/NP simulation sweeps (``results/intermediate/time/<method>_<model>.npz``).
+and the NT/NP simulation sweeps (``results/intermediate/time/<method>_<model>.npz``). Registered
+in :mod:`pedalrepro.figures.registry` (part and group ``periodic``) like every other figure.
 """
 
 from __future__ import annotations
@@ -42,8 +43,9 @@ def _axes_labels(axes) -> None:
         ax.set_ylabel(r"cadence $\omega$ (rad/s)")
 
 
-def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], model: str,
-                   methods: Sequence[str] = ("NT", "NP")) -> plt.Figure:
+def fig_orbit_maps(orbits: Mapping[str, Mapping], model: str,
+                   methods: Sequence[str] = ("NT", "NP"),
+                   sims: Mapping[str, Mapping] | None = None) -> plt.Figure:
     """Cadence amplitude maps of one model: PS, periodic orbit, simulation, and their RD.
 
     Columns: roll, steer. Rows, for each method: the particular solution of the model's own
@@ -57,16 +59,22 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
     ----------
     orbits, sims
         Keyed by method: the ``periodic/thesis_<method>_<model>.npz`` and the
-        ``time/<method>_<model>.npz`` arrays (same grid).
+        ``time/<method>_<model>.npz`` arrays (same grid); a method without simulation says so.
+
+    Notes
+    -----
+    Each method's block of four rows has its own two colour bars on the right, beside the rows
+    they belong to: amplitude (rad) beside the three amplitude rows, RD (%) beside the RD row.
     """
     panels = ("PS (own linearisation)", "periodic orbit", "simulation (stable orbits)",
               "RD simulation vs orbit")
     fig, axes = plt.subplots(len(methods) * len(panels), 2,
                              figsize=(7.0, 1.75 * len(methods) * len(panels) + 1.2),
                              sharex=True, sharey=True, squeeze=False, layout="constrained")
-    amp_mesh = rd_mesh = None
+    sims = sims or {}
     for a, method in enumerate(methods):
         o, s = orbits[method], sims.get(method)
+        amp_mesh = rd_mesh = None
         v, w = np.asarray(o["speed_m_s"]), np.asarray(o["omega_rad_s"])
         stable = np.asarray(o["stable"], bool)
         for j, coord in enumerate(("roll", "steer")):
@@ -89,13 +97,11 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], sims: Mapping[str, Mapping], m
                     ax.text(0.5, 0.5, "no simulation", transform=ax.transAxes, ha="center")
             for ax, name in zip((ax_ps, ax_orbit, ax_sim, ax_rd), panels, strict=True):
                 ax.set_title(f"{model} {method} {coord}: {name}", fontsize=8)
+        rows = a * len(panels)
+        fig.colorbar(amp_mesh, ax=axes[rows:rows + 3, :], label="amplitude (rad)", shrink=0.9)
+        if rd_mesh is not None:
+            fig.colorbar(rd_mesh, ax=axes[rows + 3, :], label="RD (%)", shrink=0.9)
     _axes_labels(axes)
-    amp_axes = [axes[a * len(panels) + k, j] for a in range(len(methods)) for k in range(3)
-                for j in range(2)]
-    fig.colorbar(amp_mesh, ax=amp_axes, label="cadence amplitude (rad)", shrink=0.5)
-    if rd_mesh is not None:
-        rd_axes = [axes[a * len(panels) + 3, j] for a in range(len(methods)) for j in range(2)]
-        fig.colorbar(rd_mesh, ax=rd_axes, label="RD (%)", shrink=0.9)
     return fig
 
 
@@ -162,44 +168,3 @@ def fig_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
         ax.set_xlabel("forward speed v (m/s)")
     axes[0, 0].legend(fontsize=8)
     return fig
-
-
-def _by_name(files, prefix: str) -> dict[str, dict]:
-    """``{stem without prefix: arrays}`` of ``.npz`` files (e.g. ``thesis_NT_HR``)."""
-    from pathlib import Path
-
-    out = {}
-    for f in files:
-        stem = Path(f).stem
-        if stem.startswith(prefix):
-            out[stem[len(prefix):]] = dict(np.load(f))
-    return out
-
-
-def draw_all(inputs, outputs: Sequence[str], models: Sequence[str],
-             methods: Sequence[str]) -> None:
-    """Draw and save every figure of ``rules/periodic.smk``: ``periodic_maps_<model>``,
-    ``periodic_continuation`` and (with fine maps) ``periodic_fine_maps``, matched to
-    ``outputs`` by file name."""
-    from pathlib import Path
-
-    from . import save, style
-
-    maps = _by_name(inputs.maps, "thesis_")
-    fine = _by_name(inputs.fine, "fine_")
-    sims = {Path(f).stem: dict(np.load(f)) for f in inputs.time}
-    branches = {str(np.load(f)["model"]): dict(np.load(f)) for f in inputs.branches}
-    named = {Path(p).stem: p for p in outputs}
-    with style():
-        for model in models:
-            fig = fig_orbit_maps({m: maps[f"{m}_{model}"] for m in methods},
-                                 {m: sims[f"{m}_{model}"] for m in methods
-                                  if f"{m}_{model}" in sims}, model, methods)
-            save(fig, named[f"periodic_maps_{model}"])
-        save(fig_continuation({m: branches[m] for m in models}),
-             named["periodic_continuation"])
-        if "periodic_fine_maps" in named:
-            method = next(iter(fine)).split("_")[0]
-            save(fig_fine_maps({m: fine[f"{method}_{m}"] for m in models
-                                if f"{method}_{m}" in fine}, method),
-                 named["periodic_fine_maps"])

@@ -1,6 +1,7 @@
 """The one table of figures: id -> drawing function and the files it reads.
 
-Every part (``section2``, ``linear``, ``nonlinear``, ``validation``) registers its figures here.
+Every part (``section2``, ``linear``, ``nonlinear``, ``validation``, and ``periodic`` beyond the
+thesis) registers its figures here.
 The Snakemake rules (``rules/figures.smk``) take their inputs and outputs from this table and
 draw with :func:`write`; the notebooks show the same figure with :func:`draw` (or
 ``figures.show(None, id)``, the rule's own file). Drawing reads files under ``results/`` and
@@ -23,17 +24,20 @@ from typing import Any
 import numpy as np
 
 from .. import paths
-from . import linear, nonlinear, section2, validation  # static imports: the rules' code inputs
+from . import linear, nonlinear, periodic, section2, validation  # static: the rules' inputs
 from .page import save, style
 
-_MODULES = {"linear": linear, "nonlinear": nonlinear, "section2": section2,
-            "validation": validation}
+_MODULES = {"linear": linear, "nonlinear": nonlinear, "periodic": periodic,
+            "section2": section2, "validation": validation}
 
 #: Time-solution methods of the thesis; NT and NP are optional inputs (the non-linear part).
 TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
 OPTIONAL_METHODS: tuple[str, ...] = ("NT", "NP")
 MODELS4: tuple[str, ...] = ("HS", "CF", "HR", "CR")
-PARTS: tuple[str, ...] = ("section2", "linear", "nonlinear", "validation")
+PARTS: tuple[str, ...] = ("section2", "linear", "nonlinear", "validation", "periodic")
+#: Methods of the periodic orbit maps, and of their finer-grid figure (rules/periodic.smk).
+PERIODIC_METHODS: tuple[str, ...] = ("NT", "NP")
+PERIODIC_FINE_METHOD = "NT"
 
 COMPLETE, PARTIAL, MISSING = "complete", "partial", "missing"
 
@@ -195,6 +199,20 @@ _register("fig_4_11", "validation", "validation", "validation.draw_fig_4_11", _V
 # panel saying the build has none (issue 12).
 _register("real_run_panel", "validation", "validation", "validation.draw_real_run_panel",
           {"source": _VALIDATION["source"], "model": _VALIDATION["model"]})
+
+
+# ---- periodic orbits (beyond the thesis; pedalrepro.periodic, rules/periodic.smk) -------------
+for _m in MODELS4:
+    _register(f"periodic_maps_{_m}", "periodic", "periodic", "periodic.fig_orbit_maps",
+              {**{f"orbits.{k}": _i(f"periodic/thesis_{k}_{_m}.npz") for k in PERIODIC_METHODS},
+               **{f"sims.{k}": _i(f"time/{k}_{_m}.npz") for k in PERIODIC_METHODS}},
+              {"model": _m, "methods": PERIODIC_METHODS},
+              optional=[f"sims.{k}" for k in PERIODIC_METHODS])
+_register("periodic_continuation", "periodic", "periodic", "periodic.fig_continuation",
+          {f"branches.{m}": _i(f"periodic/branch_{m}.npz") for m in MODELS4})
+_register("periodic_fine_maps", "periodic", "periodic", "periodic.fig_fine_maps",
+          {f"fine.{m}": _i(f"periodic/fine_{PERIODIC_FINE_METHOD}_{m}.npz") for m in MODELS4},
+          {"method": PERIODIC_FINE_METHOD})
 
 
 # ---- using the table ------------------------------------------------------------------------

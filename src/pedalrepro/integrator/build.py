@@ -1,9 +1,16 @@
-"""Build C sources into a cached shared library (the compiled integrator and right-hand sides).
+"""Build the compiled code (``pedalrepro/csrc``) into cached shared libraries.
+
+The hand-written C lives in one folder, :data:`CSRC`: shared headers (``lu.h``, ``dopri.h`` with
+the Dormand-Prince tableau and step, the sampled loop ``dopri_sampled.h``, the flow loop
+``dopri_flow.h``, ``forcing.h``, the model's null-space right-hand side ``model_rhs.h``,
+``linear_rhs.h``) and three entry files composed from them with ``#include``:
+``linear_library.c``, ``model_library.c`` (simulation) and ``periodic_library.c`` (orbits). The
+last two include a model's generated code by name (``-DMODEL_C`` and ``-I`` its folder).
 
 Libraries live in ``$PEDALREPRO_CACHE`` (default ``~/.cache/pedalrepro``), named after a hash
-of their full source text, the compiler flags and the machine (:func:`machine_tag`): a changed
-source builds a new library, an unchanged one is reused. Written atomically (parallel jobs never
-load a half-written file).
+of every source they include (the entry file, its headers and the generated model code), the
+compiler flags and the machine (:func:`machine_tag`): a changed source builds a new library, an
+unchanged one is reused. Written atomically (parallel jobs never load a half-written file).
 """
 
 from __future__ import annotations
@@ -12,15 +19,22 @@ import ctypes
 import hashlib
 import os
 import platform
+import re
 import shutil
 import subprocess
 from functools import cache
 from pathlib import Path
 
-#: The generic integrator (Dormand-Prince 5(4) with fall events), compiled into every library.
-DOPRI_C = Path(__file__).with_name("dopri.c")
-#: Right-hand side of a linear system with harmonic forcing.
-LINEAR_RHS_C = Path(__file__).with_name("linear_rhs.c")
+#: The hand-written C: shared headers and the entry file of each library.
+CSRC = Path(__file__).resolve().parents[1] / "csrc"
+#: The files of the linear library (change tracking, :mod:`pedalrepro.dependencies`); the
+#: model and periodic libraries declare theirs in :mod:`pedalrepro.nonlinear.library` and
+#: :mod:`pedalrepro.periodic.solver`.
+DATA_FILES: tuple[str, ...] = ("src/pedalrepro/csrc/linear_library.c",
+                               "src/pedalrepro/csrc/linear_rhs.h",
+                               "src/pedalrepro/csrc/dopri_sampled.h",
+                               "src/pedalrepro/csrc/dopri.h")
+_INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
 
 
 def cache_root() -> Path:
@@ -62,28 +76,48 @@ def source_hash(text: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def build(source: str, folder: Path, stem: str) -> Path | None:
-    """``folder/<stem>.<hash of source>.so`` compiled from ``source`` (once), or None without a
-    C compiler. The source is kept beside it as ``.c`` for reading."""
-    so = folder / f"{stem}.{source_hash(source + chr(10).join(CFLAGS) + machine_tag())}.so"
+def sources(entry: str, csrc: Path = CSRC) -> list[Path]:
+    """``csrc/<entry>`` and every file of ``csrc`` it includes with ``#include "..."``
+    (recursively), sorted by name: the hand-written sources of one library."""
+    found: dict[str, Path] = {}
+    todo = [entry]
+    while todo:
+        name = todo.pop()
+        if name in found:
+            continue
+        path = csrc / name
+        found[name] = path
+        todo.extend(n for n in _INCLUDE.findall(path.read_text()) if (csrc / n).is_file())
+    return [found[k] for k in sorted(found)]
+
+
+def build(entry: str, folder: Path, stem: str, model_c: Path | None = None,
+          csrc: Path = CSRC) -> Path | None:
+    """``folder/<stem>.<hash>.so`` compiled from ``csrc/<entry>`` (once), or None without a C
+    compiler. ``model_c``: the generated model code the entry includes as ``MODEL_C``. The hash
+    covers the entry and what it includes (:func:`sources`), the model code, :data:`CFLAGS` and
+    :func:`machine_tag`."""
+    text = "\n".join(f"/* {p.name} */\n{p.read_text()}" for p in sources(entry, csrc))
+    text += model_c.read_text() if model_c is not None else ""
+    so = folder / f"{stem}.{source_hash(text + chr(10).join(CFLAGS) + machine_tag())}.so"
     if so.exists():
         return so
     cc = compiler()
     if cc is None:
         return None
     folder.mkdir(parents=True, exist_ok=True)
-    c_tmp = folder / f"{so.stem}.{os.getpid()}.c"  # per process: no torn reads
-    c_tmp.write_text(source)
-    tmp = so.with_suffix(f".tmp{os.getpid()}.so")
+    extra = ["-I", str(csrc)]
+    if model_c is not None:
+        extra += ["-I", str(model_c.parent), f'-DMODEL_C="{model_c.name}"']
+    tmp = so.with_suffix(f".tmp{os.getpid()}.so")  # per process: no torn reads
     for flags in (CFLAGS, FALLBACK_CFLAGS):
-        done = subprocess.run([cc, *flags, "-shared", "-fPIC", "-o", str(tmp), str(c_tmp),
-                               "-lm"], capture_output=True, text=True)
+        done = subprocess.run([cc, *flags, *extra, "-shared", "-fPIC", "-o", str(tmp),
+                               str(csrc / entry), "-lm"], capture_output=True, text=True)
         if done.returncode == 0:
             break
     else:
-        raise RuntimeError(f"C compiler {cc} failed on {c_tmp}:\n{done.stderr[-2000:]}")
+        raise RuntimeError(f"C compiler {cc} failed on {csrc / entry}:\n{done.stderr[-2000:]}")
     tmp.replace(so)
-    c_tmp.replace(so.with_suffix(".c"))
     return so
 
 
@@ -102,6 +136,5 @@ def declare(lib: ctypes.CDLL) -> ctypes.CDLL:
 def linear_library() -> ctypes.CDLL | None:
     """The integrator with the linear right-hand side (:mod:`pedalrepro.integrator.linear`), or
     None (no compiler)."""
-    source = (DOPRI_C.read_text() + "\n" + LINEAR_RHS_C.read_text())
-    path = build(source, cache_root() / "integrator", "linear")
+    path = build("linear_library.c", cache_root() / "integrator", "linear")
     return None if path is None else declare(ctypes.CDLL(str(path)))

@@ -10,7 +10,8 @@ before the fall is kept, samples after it are NaN.
 Two backends, one interface and one result type (:class:`Simulation`):
 
 * compiled (``method="RK45"`` and a system with a compiled right-hand side): the whole run in C
-  (``dopri.c``), the Dormand-Prince pair of ``scipy.integrate.solve_ivp(method="RK45")``;
+  (``pedalrepro/csrc/dopri_sampled.h``), the Dormand-Prince pair of
+  ``scipy.integrate.solve_ivp(method="RK45")``;
   ``variant="scipy"`` reproduces solve_ivp's RK45 step for step (step-size rules, quartic dense
   output, event location); ``variant="hermite"`` is the first compiled scheme, kept for the NT/NP
   sweeps (cubic Hermite samples, simplified initial step);
@@ -72,7 +73,8 @@ class Simulation:
 
 @dataclass
 class CompiledRhs:
-    """A right-hand side in C: the library (with ``dopri.c`` compiled in), the address of its
+    """A right-hand side in C: the library (with the sampled loop of
+    ``pedalrepro/csrc/dopri_sampled.h`` compiled in), the address of its
     ``int f(const void *ctx, double t, const double *x, double *dx)`` and the context.
 
     ``keep`` holds the arrays the context points to (they must outlive the calls).

@@ -4,7 +4,7 @@
 first-order form ``x = [roll, steer, roll rate, steer rate]`` with ``A`` the state matrix and the
 pedalling torques of Eq 3.14 entering the accelerations as ``M^-1 f(t)``
 (:meth:`LinearSystem.bicycle`). Evaluated in Python (``rhs``, the reference) or in C
-(``linear_rhs.c``, :meth:`LinearSystem.compiled`).
+(``pedalrepro/csrc/linear_rhs.h``, :meth:`LinearSystem.compiled`).
 """
 
 from __future__ import annotations
@@ -85,7 +85,8 @@ class LinearSystem:
         return dx
 
     def compiled(self) -> CompiledRhs | None:
-        """The same right-hand side in C (``linear_rhs.c``), or None without a C compiler."""
+        """The same right-hand side in C (``pedalrepro/csrc/linear_rhs.h``), or None without a
+        C compiler."""
         if self._compiled is None:
             lib = linear_library()
             if lib is None:

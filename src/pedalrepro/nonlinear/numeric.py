@@ -14,8 +14,9 @@ and ground) and the steer torque (between rear and front frame), the ``T_phi``, 
 Meijaard et al. (2007) and the generalised pedalling torques of Eq 3.14.
 
 The Python reference (:meth:`NonlinearModel.rhs_python`) solves this 13 x 13 system; the
-compiled right-hand side (``rhs_driver.c``) solves its null-space form, the 3 x 3 system of the
-independent accelerations (same solution, to rounding, in less time: scripts/bench_nonlinear.py).
+compiled right-hand side (``pedalrepro/csrc/model_rhs.h``) solves its null-space form, the
+3 x 3 system of the independent accelerations (same solution, to rounding, in less time:
+scripts/bench_nonlinear.py).
 """
 
 from __future__ import annotations

@@ -28,8 +28,9 @@ class FourierSpec:
 
     def harmonic_major(self) -> tuple[np.ndarray, np.ndarray]:
         """Real and imaginary parts of ``coef`` stored harmonic by harmonic (``[n, i]``,
-        C-contiguous): the layout of ``four_re``/``four_im`` in ``forcing.c``, whose loop over
-        the signals then runs on contiguous memory."""
+        C-contiguous): the layout of ``four_re``/``four_im`` in
+        ``pedalrepro/csrc/forcing.h``, whose loop over the signals then runs on contiguous
+        memory."""
         return (np.ascontiguousarray(self.coef.real.T), np.ascontiguousarray(self.coef.imag.T))
 
     @classmethod

@@ -3,9 +3,10 @@
 :class:`ForcedModel` is a :class:`pedalrepro.integrator.System`: a
 :class:`.numeric.NonlinearModel` with the pedalling torques of Eq 3.14 (harmonics at a cadence)
 and/or its prescribed leg motion (``model.spec``). Its right-hand side runs in Python
-(``model.rhs``, the reference) or in C (``forced_rhs`` of ``rhs_driver.c``, compiled with the
-integrator ``pedalrepro/integrator/dopri.c``: :mod:`.library`). :func:`simulate` is the run of
-the NT/NP sweeps (Sec 3.1.2.1): upright straight-ahead start at a speed, sampled on a grid.
+(``model.rhs``, the reference) or in C (``forced_rhs`` of ``pedalrepro/csrc/model_library.c``:
+the null-space right-hand side with the sampled Dormand-Prince loop, :mod:`.library`); the
+forcing struct is filled by :func:`.forcing.fill_forcing`. :func:`simulate` is the run of the
+NT/NP sweeps (Sec 3.1.2.1): upright straight-ahead start at a speed, sampled on a grid.
 """
 
 from __future__ import annotations
@@ -17,19 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..integrator import CompiledRhs, Simulation, harmonic_torque, integrate
+from .forcing import ForcingStruct, fill_forcing
 from .numeric import NonlinearModel
-
-
-class ForcingStruct(ctypes.Structure):
-    """``forcing_t`` of ``forcing.c`` (the pedalling forcing shared by the model's driver and
-    the periodic-orbit driver, :mod:`pedalrepro.periodic`)."""
-
-    _fields_ = [("n_harm", ctypes.c_int), ("harm_w", ctypes.c_void_p),
-                ("roll_re", ctypes.c_void_p), ("roll_im", ctypes.c_void_p),
-                ("steer_re", ctypes.c_void_p), ("steer_im", ctypes.c_void_p),
-                ("n_spec", ctypes.c_int), ("n_four", ctypes.c_int), ("omega", ctypes.c_double),
-                ("four_re", ctypes.c_void_p), ("four_im", ctypes.c_void_p),
-                ("slope", ctypes.c_void_p), ("p", ctypes.c_void_p)]
 
 
 @dataclass
@@ -87,29 +77,8 @@ class ForcedModel:
         lib = self.model.lib
         if lib is None or self.torque is not None:
             return None
-        keep = []
-
-        def ptr(a) -> int:
-            a = np.ascontiguousarray(a, dtype=float)
-            keep.append(a)
-            return a.ctypes.data
-
         fc = ForcingStruct()
-        if self.harmonics is not None and self.omega_rad_s > 0:
-            n = np.asarray(self.harmonics.n, dtype=float)
-            w = n * self.omega_rad_s
-            roll = np.asarray(self.harmonics.roll, dtype=complex) * w**2
-            steer = np.asarray(self.harmonics.steer, dtype=complex) * w**2
-            fc.n_harm = len(n)
-            fc.harm_w, fc.roll_re, fc.roll_im = ptr(w), ptr(roll.real), ptr(roll.imag)
-            fc.steer_re, fc.steer_im = ptr(steer.real), ptr(steer.imag)
-        if self.model.n_spec:
-            spec = self.model.spec
-            fc.n_spec, fc.n_four, fc.omega = self.model.n_spec, spec.coef.shape[1], \
-                spec.omega_rad_s
-            fc.four_re, fc.four_im = (ptr(a) for a in spec.harmonic_major())
-            fc.slope = ptr(spec.slope)
-        fc.p = ptr(self.model.p_array)
+        keep = fill_forcing(fc, self.model, self.harmonics, self.omega_rad_s)
         fn = ctypes.cast(lib.forced_rhs, ctypes.c_void_p).value
         self._compiled = CompiledRhs(lib, fn, fc, keep)
         return self._compiled

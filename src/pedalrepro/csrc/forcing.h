@@ -1,11 +1,13 @@
-/* The pedalling forcing of the non-linear models, shared by the model's integration driver
-   (rhs_driver.c) and the periodic-orbit driver (pedalrepro/periodic_driver.c); prepended to
-   both sources by pedalrepro.nonlinear.library and pedalrepro.periodic. Python mirror:
-   pedalrepro.nonlinear.simulate.ForcingStruct.
+/* The pedalling forcing of the non-linear models, included by the simulation library
+   (model_library.c) and the periodic-orbit library (periodic_library.c). Filled from Python by
+   one builder: pedalrepro.csrc.forcing_struct (its ctypes mirror ForcingStruct).
 
    Harmonic roll and steer torques (Eq 3.14: coefficients times w^2, sum of Re(c e^{i w t})) and
    prescribed leg motion given as Fourier series plus a linear drift (n_spec / 3 signals: value,
    rate and acceleration in s). */
+
+#ifndef PEDALREPRO_FORCING_H
+#define PEDALREPRO_FORCING_H
 
 #include <math.h>
 
@@ -47,3 +49,5 @@ static void pedal_forcing(const forcing_t *fc, double t, double *restrict s, dou
         }
     }
 }
+
+#endif

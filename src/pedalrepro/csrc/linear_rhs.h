@@ -5,6 +5,10 @@
    A (n x n, row-major); the forcing enters the states rows[0..m-1] (for the linear bicycle
    models, Eq 3.1 in first-order form, the two accelerations: M^-1 times the pedalling torques of
    Eq 3.14). amp_re/amp_im are (n_harm x m), row-major.                                  */
+#ifndef PEDALREPRO_LINEAR_RHS_H
+#define PEDALREPRO_LINEAR_RHS_H
+
+#include <math.h>
 
 typedef struct {
     int n;
@@ -28,3 +32,5 @@ int linear_rhs(const void *ctx, double t, const double *x, double *dx) {
     for (int i = 0; i < s->n; i++) if (!isfinite(dx[i])) return 1;
     return 0;
 }
+
+#endif
