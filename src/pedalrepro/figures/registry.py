@@ -9,7 +9,8 @@ never computes a sweep: what a figure needs beyond the sweep rules' files is wri
 
 Input names are the drawing function's keyword arguments; a dotted name ``"time.LA"`` groups
 files into a dict (``time={"LA": ..., "LN": ...}``). Files are loaded by suffix: ``.npz`` -> dict
-of arrays, ``.csv`` -> DataFrame, ``.json`` -> dict.
+of arrays (the time-solution files ``time.<method>`` through :func:`pedalrepro.timesolution.read`,
+which checks their keys), ``.csv`` -> DataFrame, ``.json`` -> dict.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import paths
+from .. import paths, timesolution
 from . import linear, nonlinear, section2, validation  # static imports: the rules' code inputs
 from .page import save, style
 
@@ -261,10 +262,12 @@ def load_inputs(fid: str, root: str | Path | None = None) -> dict[str, Any]:
             raise FileNotFoundError(f"{fid} reads {path}, which does not exist (run the "
                                     "pipeline: snakemake <that file>)")
         head, _, key = name.partition(".")
+        # time-solution files are read (and their keys checked) by their own module
+        value = timesolution.read(path) if head == "time" else _load(path)
         if key:
-            args.setdefault(head, {})[key] = _load(path)
+            args.setdefault(head, {})[key] = value
         else:
-            args[head] = _load(path)
+            args[head] = value
     return args
 
 
