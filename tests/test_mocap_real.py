@@ -185,7 +185,7 @@ def test_3045_cadence_and_both_amplitude_methods(a3045, published):
 def test_method_comparison_table(a3045, published):
     import pandas as pd
 
-    from pedalrepro import validation
+    from pedalrepro import validation, validation_report
 
     a = a3045
     row = pd.Series({"run_id": 3045, "system": "HR", "speed_kmh": a.run.speed_kmh,
@@ -201,7 +201,7 @@ def test_method_comparison_table(a3045, published):
     assert (best.method, best.column, best.n_matches) == ("thesis", "HR 20 km/h", 3)
     same = comp[comp.belt_speed_matches]
     assert list(same.column.unique()) == ["HR 25 km/h"] and same.n_matches.max() == 0
-    rows = validation.real_report_rows(comp)
+    rows = validation_report.real_report_rows(comp)
     assert {r.status for r in rows if "HR 20 km/h" in r.item} == {"reproduced"}
     assert {r.status for r in rows if "HR 25 km/h" in r.item} == {"differs"}
 

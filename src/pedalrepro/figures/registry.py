@@ -15,6 +15,7 @@ which checks their keys), ``.csv`` -> DataFrame, ``.json`` -> dict.
 
 from __future__ import annotations
 
+import importlib
 import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -24,11 +25,12 @@ from typing import Any
 import numpy as np
 
 from .. import paths, timesolution
-from . import linear, nonlinear, section2, validation  # static imports: the rules' code inputs
 from .page import save, style
 
-_MODULES = {"linear": linear, "nonlinear": nonlinear, "section2": section2,
-            "validation": validation}
+#: The drawing modules of :mod:`pedalrepro.figures`, imported by name when a figure is drawn
+#: (:meth:`FigureSpec.callable`), so that a group's rule depends on its own modules only
+#: (:func:`code_sources`), not on every part's.
+MODULES: tuple[str, ...] = ("linear", "nonlinear", "section2", "validation")
 
 #: Time-solution methods of the thesis; NT and NP are optional inputs (the non-linear part).
 TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
@@ -73,9 +75,16 @@ class FigureSpec:
     optional: frozenset = frozenset()
     complete_when: tuple[tuple[str, str], ...] = ()
 
+    @property
+    def module(self) -> str:
+        """The drawing module's name in :mod:`pedalrepro.figures` (one of :data:`MODULES`)."""
+        return self.function.rsplit(".", 1)[0]
+
     def callable(self) -> Callable:
         module, func = self.function.rsplit(".", 1)
-        return getattr(_MODULES[module], func)
+        if module not in MODULES:
+            raise KeyError(f"{self.id}: {module!r} is not a drawing module ({', '.join(MODULES)})")
+        return getattr(importlib.import_module(f"{__package__}.{module}"), func)
 
 
 FIGURES: dict[str, FigureSpec] = {}
@@ -220,6 +229,18 @@ def groups() -> list[str]:
     return sorted({s.group for s in FIGURES.values()})
 
 
+def code_sources(group: str) -> list[str]:
+    """Source files whose import closure is the code of figure group ``group``'s rule, relative
+    to the repository: the drawing modules of its figures (``src/pedalrepro/figures/<m>.py``).
+    ``rules/figures.smk`` adds ``scripts/figures.py`` (this registry and the page style) and
+    takes :func:`pedalrepro.dependencies.code_inputs` of both, so editing one part's drawing
+    code reruns that part's figures only."""
+    modules = sorted({s.module for s in FIGURES.values() if s.group == group})
+    if not modules:
+        raise KeyError(f"{group!r} is not a figure group ({', '.join(groups())})")
+    return [f"src/pedalrepro/figures/{m}.py" for m in modules]
+
+
 def inputs(fid: str, root: str | Path | None = None,
            time_methods: Sequence[str] = TIME_METHODS) -> list[str]:
     """Files figure ``fid`` reads under ``root`` (default: the results folder), as strings;
@@ -308,23 +329,3 @@ def completeness(fid: str, root: str | Path | None = None) -> tuple[str, list[st
                 if key not in d.files:
                     lacking.append(label)
     return (PARTIAL, lacking) if lacking else (COMPLETE, [])
-
-
-def coverage(root: str | Path | None = None):
-    """:func:`pedalrepro.report.figure_coverage` (every thesis id, ``present``) plus ``status``
-    ``complete`` / ``partial`` / ``missing`` and ``lacking`` (what a partial figure lacks: a
-    method or panel the thesis shows; :func:`completeness`) - the report page's figure count."""
-    from .. import report
-
-    ids = report.figure_coverage(root)
-    status, lacking = [], []
-    for fid, present in zip(ids["id"], ids["present"], strict=True):
-        if fid in FIGURES:
-            st, what = completeness(fid, root)
-        else:  # a table
-            st, what = (COMPLETE if present else MISSING), []
-        status.append(st)
-        lacking.append(", ".join(what))
-    ids["status"] = status
-    ids["lacking"] = lacking
-    return ids
