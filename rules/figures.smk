@@ -13,14 +13,6 @@ FIGURE_IDS = FIGURE_REGISTRY.ids()
 # an edit reruns the figures that use it and no others.
 FIGURE_SCRIPT_CODE = code_inputs("scripts/figures.py")
 
-
-def figure_code(group):
-    """Code inputs of figure group ``group``'s rule (tests/test_change_tracking.py computes the
-    same: figure_group_code)."""
-    own = code_inputs(*(f"../{src}" for src in FIGURE_REGISTRY.code_sources(group)))
-    return sorted(set(FIGURE_SCRIPT_CODE) | set(own))
-
-
 LINEAR_FIGURE_DATA = ["gear_grid", "cam_HS", "gear_sections_models", "gear_sections_benchmark"] + [
     f"neglected_{m}" for m in ("HS", "CF", "HR", "CR")]
 
@@ -66,7 +58,8 @@ for _group in FIGURE_REGISTRY.groups():
         name:
             f"figures_{_group}"
         input:
-            code=figure_code(_group),
+            code=sorted(set(FIGURE_SCRIPT_CODE) | set(code_inputs(
+                *(f"../{src}" for src in FIGURE_REGISTRY.code_sources(_group))))),
             data=lambda wc, g=_group: sorted(
                 {p for f in FIGURE_REGISTRY.ids(group=g)
                  for p in FIGURE_REGISTRY.inputs(f, R, TIME_METHODS)}

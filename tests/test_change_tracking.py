@@ -510,8 +510,9 @@ def test_touched_module_or_parameter_file_reruns_its_import_closure(baseline, tm
 
 
 def figure_group_code(group: str) -> list[str]:
-    """The code inputs rules/figures.smk gives figure group ``group``'s rule: scripts/figures.py
-    (the registry, the page style) and the closure of the group's own drawing modules."""
+    """The code inputs rules/figures.smk gives figure group ``group``'s rule (the same
+    computation): scripts/figures.py (the registry, the page style) and the closure of the
+    group's own drawing modules."""
     return sorted(set(dependencies.code_inputs(paths.ROOT / "rules/scripts/figures.py",
                                                root=paths.ROOT))
                   | set(dependencies.code_inputs(*FIGURE_REGISTRY.code_sources(group),
