@@ -40,7 +40,7 @@ DATA_LABELS: dict[str, str] = {"synthetic": "SYNTHETIC", "figshare": "measured",
 def labelled(table: pd.DataFrame) -> pd.DataFrame:
     """A chapter-4 table as the book shows it: its first column ``data`` says where each row's
     measured values come from (``SYNTHETIC``, ``measured`` or ``measured (public subset)``,
-    :data:`DATA_LABELS`), in place of the last column ``data_source`` (issue 13, part 4).
+    :data:`DATA_LABELS`), in place of the last column ``data_source``.
 
     Examples
     --------

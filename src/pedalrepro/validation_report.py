@@ -35,7 +35,7 @@ def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_sour
 
     def check(claim_id: str, value: float, **fields) -> report.Row:
         # a SYNTHETIC value never stands in the "reproduced" cell beside a published number: the
-        # cell says n/a and the note gives the stand-in's value, labelled (issue 13, part 4)
+        # cell says n/a and the note gives the stand-in's value, labelled
         if not synthetic:
             return report.check(claim_id, value, **fields)
         c = report.claim(claim_id)

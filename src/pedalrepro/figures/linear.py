@@ -32,7 +32,7 @@ from .palette import (
 
 Arrays = Mapping[str, np.ndarray]
 
-#: Every time-solution method of the thesis (FIGURES.md); the linear part makes LA and LN.
+#: Every time-solution method of the thesis (Sec 3.1.2); the linear part makes LA and LN.
 ALL_TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
 MODELS4 = ("HS", "CF", "HR", "CR")
 AMP_LEVELS = np.linspace(0.0, 0.04, 9)

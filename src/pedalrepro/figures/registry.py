@@ -202,7 +202,7 @@ for _s, (_ft, _ff) in {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"
 _register("fig_4_10", "validation", "validation", "validation.draw_fig_4_10", _VALIDATION)
 _register("fig_4_11", "validation", "validation", "validation.draw_fig_4_11", _VALIDATION)
 # Not a thesis figure: the REAL public-subset run (measured vs model, time and spectrum), or a
-# panel saying the build has none (issue 12).
+# panel saying the build has none.
 _register("real_run_panel", "validation", "validation", "validation.draw_real_run_panel",
           {"source": _VALIDATION["source"], "model": _VALIDATION["model"]})
 
