@@ -8,7 +8,11 @@ from pedalrepro import figdata as FIGDATA
 from pedalrepro.figures import registry as FIGURE_REGISTRY
 
 FIGURE_IDS = FIGURE_REGISTRY.ids()
-FIGURE_CODE = code_inputs("scripts/figures.py")
+# A group's code: the drawing script with the registry (which imports the drawing modules by
+# name), plus the closure of the group's own drawing modules (FIGURE_REGISTRY.code_sources), so
+# an edit reruns the figures that use it and no others.
+FIGURE_SCRIPT_CODE = code_inputs("scripts/figures.py")
+
 LINEAR_FIGURE_DATA = ["gear_grid", "cam_HS", "gear_sections_models", "gear_sections_benchmark"] + [
     f"neglected_{m}" for m in ("HS", "CF", "HR", "CR")]
 
@@ -58,7 +62,8 @@ for _group in FIGURE_REGISTRY.groups():
         name:
             f"figures_{_group}"
         input:
-            code=FIGURE_CODE,
+            code=sorted(set(FIGURE_SCRIPT_CODE) | set(code_inputs(
+                *(f"../{src}" for src in FIGURE_REGISTRY.code_sources(_group))))),
             data=lambda wc, g=_group: sorted(
                 {p for f in FIGURE_REGISTRY.ids(group=g)
                  for p in FIGURE_REGISTRY.inputs(f, R, TIME_METHODS)}

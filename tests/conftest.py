@@ -22,7 +22,7 @@ def quick_workflow():
     ``PEDALREPRO_TEST_KEEP_RESULTS=1``).
 
     Every pedalrepro process of the run records the files and modules it reads into
-    ``<results>.trace/`` (``PEDALREPRO_TRACE``, pedalrepro._trace; checked by
+    ``<results>.trace/`` (``PEDALREPRO_TRACE``, tests/trace/sitecustomize.py; checked by
     tests/test_change_tracking.py).
 
     Returns a namespace: results, returncode, log, elapsed_s, trace."""
@@ -61,6 +61,11 @@ def quick_workflow():
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
     env.pop("PEDALREPRO_RESULTS", None)
     env["PEDALREPRO_TRACE"] = str(trace)
+    # tests/trace/sitecustomize.py records what each process of the run reads (the package
+    # itself never loads it)
+    env["PYTHONPATH"] = os.pathsep.join(
+        [str(Path(__file__).resolve().parent / "trace")]
+        + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
     cmd = [sys.executable, "-m", "snakemake", "-j2", "--configfile", "config/quick.yaml",
            "--config", f"results_dir={results}"]
     start = time.perf_counter()

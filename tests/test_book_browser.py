@@ -239,9 +239,9 @@ def test_every_page_in_a_browser(served_book):
           f"{min(fractions):.2f}, median {statistics.median(fractions):.2f}, max "
           f"{max(fractions):.2f}; {sum(bool(f['image_link']) for f in sizes)} linked full size; "
           f"{len({h for f in sizes for h in f['links']})} links opened")
-    from pedalrepro.figures import registry
+    from pedalrepro.figures import coverage as figure_coverage
 
-    coverage_status = registry.coverage(results)["status"].value_counts().to_dict()
+    coverage_status = figure_coverage.coverage(results)["status"].value_counts().to_dict()
     print(f"figure ids: {coverage_status}")
     assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
     # every id the pipeline produced is shown; every id shown is a thesis id

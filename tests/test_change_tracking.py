@@ -28,6 +28,7 @@ import pytest
 import yaml
 
 from pedalrepro import config, dependencies, paths
+from pedalrepro.figures import registry as FIGURE_REGISTRY
 
 RULE_SCRIPTS = sorted((paths.ROOT / "rules" / "scripts").glob("*.py"))
 SMK_TEXT = "\n".join(p.read_text() for p in sorted((paths.ROOT / "rules").glob("*.smk")))
@@ -361,8 +362,8 @@ NONLINEAR = {"nonlinear_codegen_variant", "nonlinear_codegen", "nonlinear_calibr
              "nonlinear_linearisation",
              "nonlinear_time_chunk", "nonlinear_time", "nonlinear_rd", "nonlinear_report",
              "figures_nonlinear"}
-MOCAP = {"mocap_runs", "mocap_extract", "validation_tables", "validation_figure_data",
-         "figures_validation"}
+MOCAP = {"mocap_runs", "mocap_extract", "validation_tables", "validation_report",
+         "validation_figure_data", "figures_validation"}
 CHANGES = [
     ("section2", "section2.cadence_rpm", 55.0,
      {"section2_disturbance", "section2_numbers"},
@@ -486,7 +487,8 @@ def _rules(script_names):
       "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
     ("data/parameters/validation_runs.yaml",
-     {"linear_table_4_1", "mocap_runs", "mocap_extract", "validation_tables"}),
+     {"linear_table_4_1", "mocap_runs", "mocap_extract", "validation_tables",
+      "validation_report"}),
 ])
 def test_touched_file_reruns_exactly_its_users(baseline, tmp_path, rel, expected):
     results, cfg = baseline
@@ -518,11 +520,22 @@ def test_touched_module_or_parameter_file_reruns_its_import_closure(baseline, tm
     _assert_users_rerun(jobs, direct, expected)
 
 
+def figure_group_code(group: str) -> list[str]:
+    """The code inputs rules/figures.smk gives figure group ``group``'s rule (the same
+    computation): scripts/figures.py (the registry, the page style) and the closure of the
+    group's own drawing modules."""
+    return sorted(set(dependencies.code_inputs(paths.ROOT / "rules/scripts/figures.py",
+                                               root=paths.ROOT))
+                  | set(dependencies.code_inputs(*FIGURE_REGISTRY.code_sources(group),
+                                                 root=paths.ROOT)))
+
+
 def test_every_file_a_rule_reads_is_its_input(quick_workflow):
     """The end-to-end run recorded, per process, the data files and package resources it opened
-    and the pedalrepro modules it loaded (PEDALREPRO_TRACE, pedalrepro._trace). Each must be an
-    input of the rule that ran (code_inputs of its script; for the book's notebook kernels, of
-    the notebooks): a module reading a file no rule declares fails here."""
+    and the pedalrepro modules it loaded (PEDALREPRO_TRACE, tests/trace/sitecustomize.py). Each
+    must be an input of the rule that ran (code_inputs of its script; for a figure group, of the
+    script and the group's drawing modules, :func:`figure_group_code`; for the book's notebook
+    kernels, of the notebooks): a module reading a file no rule declares fails here."""
     import json
 
     if quick_workflow.returncode != 0:
@@ -532,7 +545,11 @@ def test_every_file_a_rule_reads_is_its_input(quick_workflow):
     for trace in sorted(quick_workflow.trace.glob("*.json")):
         rec = json.loads(trace.read_text())
         name = Path(rec["argv0"]).name
-        if name.startswith("tmp") and name.split(".", 1)[-1] in scripts:
+        if name.startswith("tmp") and name.split(".", 1)[-1] == "figures.py":
+            script = "figures.py"  # a figure group: known by the drawing modules it loaded
+            inputs = set().union(*(figure_group_code(g) for g in FIGURE_REGISTRY.groups()
+                                   if set(FIGURE_REGISTRY.code_sources(g)) <= set(rec["modules"])))
+        elif name.startswith("tmp") and name.split(".", 1)[-1] in scripts:
             script = name.split(".", 1)[-1]
             inputs = set(dependencies.code_inputs(scripts[script], root=paths.ROOT))
         elif "ipykernel" in rec["argv0"]:
@@ -548,3 +565,61 @@ def test_every_file_a_rule_reads_is_its_input(quick_workflow):
         assert not missing, f"{script} imported {sorted(missing)}, not in its closure"
     missing = (set(scripts) | {"notebooks"}) - seen
     assert not missing, f"no trace of {sorted(missing)}"
+
+
+# --------------------------------------------------------------------------------------------
+# Change tracking per figure group
+# --------------------------------------------------------------------------------------------
+
+FIGURE_RULES = {f"figures_{g}" for g in FIGURE_REGISTRY.groups()}
+CLAIMS = "data/published/claims.yaml"
+SECTION2_FIGURES = "src/pedalrepro/figures/section2.py"
+
+
+def test_each_figure_group_depends_on_its_own_drawing_code():
+    """A group's code is the registry's plus its own drawing modules' closure: the section-2
+    module is the section-2 group's only, and no group reaches the report or the claims."""
+    code = {g: figure_group_code(g) for g in FIGURE_REGISTRY.groups()}
+    assert [g for g, files in code.items() if SECTION2_FIGURES in files] == ["section2"]
+    for g, files in code.items():
+        assert CLAIMS not in files and "src/pedalrepro/report.py" not in files, g
+        assert "src/pedalrepro/_trace.py" not in files, g
+        assert f"src/pedalrepro/figures/{g.split('_')[0]}.py" in files, g
+    # the shared part is small: the drawing script, the registry, the page style, paths, the
+    # time-solution reader and the package __init__ files (39 files per group before)
+    shared = set.intersection(*(set(f) for f in code.values()))
+    assert shared == {"rules/scripts/figures.py", "src/pedalrepro/__init__.py",
+                      "src/pedalrepro/figures/__init__.py", "src/pedalrepro/figures/page.py",
+                      "src/pedalrepro/figures/registry.py", "src/pedalrepro/paths.py",
+                      "src/pedalrepro/pedalrepro.mplstyle", "src/pedalrepro/timesolution.py"}
+
+
+def test_claims_reach_report_rules_only():
+    """Through the dependency closure: every rule script reaching claims.yaml writes report rows
+    (``*_report.py``), and no figure reads a file of the report (tables/report/, the joined
+    reproduction report), so editing a claim can plan no figure rule."""
+    users = _users(CLAIMS)
+    assert users and all(s.endswith("_report.py") for s in users), sorted(users)
+    assert "validation_report.py" in users and "mocap_tables.py" not in users
+    for fid in FIGURE_REGISTRY.ids():
+        for rel in FIGURE_REGISTRY.spec(fid).inputs.values():
+            assert not rel.startswith("tables/report/") and "reproduction_report" not in rel, fid
+
+
+def test_editing_claims_plans_no_figure_rule(baseline, tmp_path):
+    results, cfg = baseline
+    jobs = _touched(results, cfg, tmp_path, CLAIMS)
+    print(f"touch {CLAIMS}: planned {sorted(jobs)}")
+    assert not set(jobs) & FIGURE_RULES, sorted(set(jobs) & FIGURE_RULES)
+    assert not set(jobs) & {"validation_tables", "validation_figure_data", "linear_figure_data"}
+    assert {"validation_report", "reproduction_report", "book"} <= set(jobs)
+
+
+def test_editing_section2_figures_plans_only_the_section2_figures(baseline, tmp_path):
+    results, cfg = baseline
+    jobs = _touched(results, cfg, tmp_path, SECTION2_FIGURES)
+    direct = _direct(jobs, "updated input files")
+    print(f"touch {SECTION2_FIGURES}: planned {sorted(jobs)}; updated input: {sorted(direct)}")
+    assert set(jobs) & FIGURE_RULES == {"figures_section2"}
+    # the book's notebooks import the module too (the API page documents it)
+    _assert_users_rerun(jobs, direct, {"figures_section2", "book"})

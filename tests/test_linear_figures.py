@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from pedalrepro import evaluation, figures, linear, response  # noqa: E402
+from pedalrepro import evaluation, figures, linear, response, timesolution  # noqa: E402
 from pedalrepro.figures import linear as figlin  # noqa: E402
 from pedalrepro.figures import registry  # noqa: E402
 
@@ -48,11 +48,18 @@ def results(tmp_path, monkeypatch):
                                              t).roll_rad[0, 0]
              for a, b in zip(pts.speed_m_s, pts.omega_rad_s, strict=True)]
     (tmp_path / "intermediate" / "time").mkdir()
-    for method in ("LA", "LN"):
-        np.savez(tmp_path / "intermediate" / "time" / f"{method}_HR.npz",
-                 example_speed_m_s=pts.speed_m_s, example_omega_rad_s=pts.omega_rad_s,
-                 example_t_s=t, example_roll_rad=np.stack(rolls),
-                 example_steer_rad=np.stack(rolls))
+    series_v = np.full(len(pts.series_omega_rad_s), pts.series_speed_m_s)
+    for method in ("LA", "LN"):  # every key a time-solution file must have (timesolution)
+        timesolution.write(
+            tmp_path / "intermediate" / "time" / f"{method}_HR.npz",
+            dict(speed_m_s=v, omega_rad_s=w, roll_amp_rad=np.abs(r[..., 0]),
+                 steer_amp_rad=np.abs(s[..., 0]), t_end_s=np.full(r.shape[:2], t[-1]),
+                 fell=np.zeros(r.shape[:2], bool), method=method, model="HR", harmonics=h.n,
+                 sample_rate_hz=20.0, example_speed_m_s=pts.speed_m_s,
+                 example_omega_rad_s=pts.omega_rad_s, example_t_s=t,
+                 example_roll_rad=np.stack(rolls), example_steer_rad=np.stack(rolls),
+                 series_speed_m_s=series_v, series_omega_rad_s=pts.series_omega_rad_s,
+                 series_roll_rad=np.stack(rolls), series_steer_rad=np.stack(rolls)))
     return tmp_path, np.stack(rolls)
 
 

@@ -9,7 +9,9 @@ calculations (Hann scalloping), and Table 4.1 (``data/published``).
 
 from __future__ import annotations
 
+import hashlib
 import os
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -71,6 +73,87 @@ def test_export_reader_3045(real_dir):
     assert np.allclose(back.markers_m, run.markers_m, equal_nan=True, atol=1e-12)
 
 
+#: What the standard-library reader that preceded python-calamine (zipfile + XML, commit
+#: f71509e) read from the three 3045 exports: shape, NaN count and the sha256 of the float64
+#: array (C order, NaN as numpy's NaN); the maintained reader must give the same bits.
+XLSX_BEFORE = {
+    "X": ((6000, 33), 6136, "db8d1bdf902dc3b5c7272041f930abb719855c94acf85469c143f7bd1df774f4"),
+    "Y": ((6000, 31), 136, "ff26eef71fecdcc2960c8042989f1bcc3f4fb936fad7e886bd8fdebff806bd0c"),
+    "Z": ((6000, 31), 136, "dd69295d41a294aa44f35a06605d6fa3705972f19ef512ea55f5da4ecc3f330f"),
+}
+
+
+@pytest.mark.parametrize("coord", "XYZ")
+def test_xlsx_reader_gives_the_bits_the_previous_reader_gave(real_dir, coord):
+    a = exports.read_xlsx(real_dir / f"3045_{coord}.xlsx")
+    shape, n_nan, digest = XLSX_BEFORE[coord]
+    canonical = np.ascontiguousarray(np.where(np.isnan(a), np.nan, a))
+    assert (a.shape, int(np.isnan(a).sum())) == (shape, n_nan)
+    assert hashlib.sha256(canonical.tobytes()).hexdigest() == digest
+    if coord == "X":  # cells as stored in the sheet XML: AG6000 "416.5969556", A1 text "NaN"
+        assert a[5999, 32] == 416.5969556 and a[5999, 30] == 416.84782951662595
+        assert np.isnan(a[0, 0]) and np.isnan(a[:, 31]).all()  # column 32 is empty
+
+
+def _tiny_xlsx(path: Path, cells: str, shared: tuple[str, ...] = ("NaN",)) -> Path:
+    """A minimal .xlsx (one sheet, ``cells`` = the <sheetData> rows) written by hand."""
+    main = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+    rel = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
+    kind = "http://schemas.openxmlformats.org/officeDocument/2006/relationships/"
+    ct = "application/vnd.openxmlformats-officedocument.spreadsheetml."
+    strings = "".join(f"<si><t>{s}</t></si>" for s in shared)
+    files = {
+        "[Content_Types].xml": (
+            '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+            '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.'
+            'relationships+xml"/><Default Extension="xml" ContentType="application/xml"/>'
+            f'<Override PartName="/xl/workbook.xml" ContentType="{ct}sheet.main+xml"/>'
+            f'<Override PartName="/xl/worksheets/sheet1.xml" ContentType="{ct}worksheet+xml"/>'
+            f'<Override PartName="/xl/sharedStrings.xml" ContentType="{ct}sharedStrings+xml"/>'
+            "</Types>"),
+        "_rels/.rels": (
+            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+            f'<Relationship Id="rId1" Type="{kind}officeDocument" Target="xl/workbook.xml"/>'
+            "</Relationships>"),
+        "xl/workbook.xml": (f'<workbook xmlns="{main}" xmlns:r="{rel}"><sheets><sheet name="S" '
+                            'sheetId="1" r:id="rId1"/></sheets></workbook>'),
+        "xl/_rels/workbook.xml.rels": (
+            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+            f'<Relationship Id="rId1" Type="{kind}worksheet" Target="worksheets/sheet1.xml"/>'
+            f'<Relationship Id="rId2" Type="{kind}sharedStrings" Target="sharedStrings.xml"/>'
+            "</Relationships>"),
+        "xl/sharedStrings.xml": f'<sst xmlns="{main}">{strings}</sst>',
+        "xl/worksheets/sheet1.xml": f'<worksheet xmlns="{main}"><sheetData>{cells}'
+                                    "</sheetData></worksheet>",
+    }
+    with zipfile.ZipFile(path, "w") as z:
+        for name, text in files.items():
+            z.writestr(name, text)
+    return path
+
+
+def test_xlsx_cells_numbers_text_and_gaps(tmp_path):
+    """Numbers keep the stored decimal's float64, text and absent cells are NaN, the array starts
+    at A1; a damaged file is a MocapFileError naming the file."""
+    p = _tiny_xlsx(tmp_path / "1001_X.xlsx",
+                   '<row r="1"><c r="A1"><v>0.1</v></c><c r="C1" t="s"><v>0</v></c></row>'
+                   '<row r="3"><c r="B3"><v>-1.56459240722656E-3</v></c><c r="C3"><v>7</v></c>'
+                   "</row>")
+    a = exports.read_xlsx(p)
+    assert a.shape == (3, 3)
+    assert a[0, 0] == 0.1 and a[2, 1] == -0.00156459240722656 and a[2, 2] == 7.0
+    assert np.isnan(a[[0, 0, 1, 1, 1, 2], [1, 2, 0, 1, 2, 0]]).all()
+    truncated = tmp_path / "1002_X.xlsx"
+    truncated.write_bytes(p.read_bytes()[:200])
+    not_zip = tmp_path / "1003_X.xlsx"
+    not_zip.write_text("1;2;3\n")
+    for bad in (truncated, not_zip):
+        with pytest.raises(reader.MocapFileError, match=bad.name):
+            exports.read_xlsx(bad)
+    with pytest.raises(reader.MocapFileError, match="the worksheet is empty"):
+        exports.read_xlsx(_tiny_xlsx(tmp_path / "1004_X.xlsx", ""))
+
+
 def test_3045_cadence_and_both_amplitude_methods(a3045, published):
     a = a3045
     assert a.status == "full"
@@ -103,7 +186,7 @@ def test_3045_cadence_and_both_amplitude_methods(a3045, published):
 def test_method_comparison_table(a3045, published):
     import pandas as pd
 
-    from pedalrepro import validation
+    from pedalrepro import validation, validation_report
 
     a = a3045
     row = pd.Series({"run_id": 3045, "system": "HR", "speed_kmh": a.run.speed_kmh,
@@ -119,7 +202,7 @@ def test_method_comparison_table(a3045, published):
     assert (best.method, best.column, best.n_matches) == ("thesis", "HR 20 km/h", 3)
     same = comp[comp.belt_speed_matches]
     assert list(same.column.unique()) == ["HR 25 km/h"] and same.n_matches.max() == 0
-    rows = validation.real_report_rows(comp)
+    rows = validation_report.real_report_rows(comp)
     assert {r.status for r in rows if "HR 20 km/h" in r.item} == {"reproduced"}
     assert {r.status for r in rows if "HR 25 km/h" in r.item} == {"differs"}
 

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pedalrepro import report, spectral, validation
+from pedalrepro import report, spectral, validation, validation_report
 
 
 def _published_41(published):
@@ -125,7 +125,7 @@ def test_report_rows_status_by_data_source(published):
     per_run = pd.concat([per_run, per_run.assign(system="HS"), per_run.assign(system="CF")])
     t42 = validation.table_4_2(per_run, "figshare")
     t41 = validation.table_4_1(measured, selection, model, "figshare")
-    rows = validation.report_rows(t41, t42, published, "synthetic", "offline (test)")
+    rows = validation_report.report_rows(t41, t42, published, "synthetic", "offline (test)")
     meas = [r for r in rows if "measured" in r.item or "Table 4.2" in r.item or "median" in r.item]
     assert meas and all(r.status == report.NOT_REPRODUCIBLE and r.note.startswith("offline (test)")
                         for r in meas)
@@ -139,6 +139,6 @@ def test_report_rows_status_by_data_source(published):
     assert not [r for r in rows if "model" in r.item]
     assert len(rows) == 14 + 2 + 4 * len(published["table_4_2_open_vs_closed_loop"]["systems"])
     # from the real data the measured columns are compared (here: the published ones -> equal)
-    rows = validation.report_rows(t41, t42, published, "figshare")
+    rows = validation_report.report_rows(t41, t42, published, "figshare")
     t41_meas = [r for r in rows if "measured" in r.item]
     assert len(t41_meas) == 14 and all(r.status == report.REPRODUCED for r in t41_meas)

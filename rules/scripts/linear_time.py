@@ -1,9 +1,7 @@
 """Snakemake script: time solutions LA (analytic) or LN (numerical) of linear models.
 
-Writes results/intermediate/time/<method>_<model>.npz in the format of CONTRIBUTING.md, plus
-optional keys: ``roll_amp_rect_rad``/``steer_amp_rect_rad`` (DFT without window), for LA the
-cadence-only forcing T(w) (``*_h1_*``, evaluation point 2b), for LN the tight-tolerance example
-runs (``example_*_tight_rad``), and the one-speed series of Fig 3.18/3.19 (``series_*``).
+Writes results/intermediate/time/<method>_<model>.npz with pedalrepro.timesolution.write (the
+keys, optional ones included, are listed there).
 """
 
 import sys
@@ -11,7 +9,7 @@ import time
 
 import numpy as np
 
-from pedalrepro import evaluation, linear, response
+from pedalrepro import evaluation, linear, response, timesolution
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 method = snakemake.params.method
@@ -80,4 +78,4 @@ def time_solutions(name: str) -> dict:
 paths = snakemake.output.npz
 paths = [paths] if isinstance(paths, str) else list(paths)
 for name, path in zip(snakemake.params.models, paths, strict=True):
-    np.savez_compressed(path, **time_solutions(name))
+    timesolution.write(path, time_solutions(name))

@@ -2,7 +2,8 @@
 
 Chunk 0 also integrates the six example runs and the one-speed series (Figs 3.18, 3.19, 3.28,
 3.29), so that the join (nonlinear_merge.py) integrates nothing and needs no job of its own
-start-up cost beyond reading the chunks.
+start-up cost beyond reading the chunks. The chunk holds ``speed_index`` and the grid arrays of
+pedalrepro.timesolution.CHUNK_GRID_KEYS (the join is pedalrepro.timesolution.merge_chunks).
 """
 
 import sys

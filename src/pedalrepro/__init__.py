@@ -6,10 +6,3 @@ the thesis concepts (``legs``, ``disturbance``, ``linear``, ``response``, ...); 
 """
 
 __version__ = "0.1.0"
-
-import os as _os
-
-if _os.environ.get("PEDALREPRO_TRACE"):  # tests only: record the files a process reads
-    from . import _trace
-
-    _trace.install(_os.environ["PEDALREPRO_TRACE"])

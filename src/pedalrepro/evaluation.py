@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import gears, linear, response
+from .relative_difference import relative_difference  # Eq 3.26 (a leaf module)
 
 if TYPE_CHECKING:
     from .params import LinearModel
@@ -91,15 +92,6 @@ def example_points(model: str) -> ExamplePoints:
     gr = float(DIAGONAL_SPEED_STEP_M_S / DIAGONAL_OMEGA_STEP_RAD_S
                / gears.wheel_radius_m(linear.bicycle_of(model)))
     return ExamplePoints(v, w, gr, float(v[2]), w[::-1].copy())
-
-
-def relative_difference(reference, other) -> np.ndarray:
-    """Eq 3.26 in percent; NaN where the reference amplitude is zero (no forcing, w = 0)."""
-    ref = np.abs(np.asarray(reference, float))
-    oth = np.abs(np.asarray(other, float))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rd = np.abs((ref - oth) / ref) * 100.0
-    return np.where(ref > 0, rd, np.nan)
 
 
 def stable_speed_mask(model_name: str, speed_m_s: np.ndarray,

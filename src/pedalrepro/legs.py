@@ -5,7 +5,8 @@ ul) and the frame from the crank axis A to the hip (saddle) C as the base (Fig 2
 The crank turns isokinetically, ``theta_A = -omega t``, ``theta_A = 0`` with the right foot
 forward; the left leg runs ``pi`` behind (``x_leL(t) = x_riL(t + pi / omega)``).
 
-Conventions (they reproduce Table D.1 to 7 significant digits; DESIGN.md, errata items 8-9):
+Conventions (they reproduce Table D.1 to 7 significant digits; ``book/deviations.md``,
+"Conventions the thesis does not state"):
 
 * crank axis A at the origin, ``x`` forward, ``z`` down (the bicycle frame of Meijaard et al.
   2007), ``y`` to the right; the right leg lies in the plane ``y = +l_hh / 2``;

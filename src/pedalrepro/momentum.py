@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .momentum_terms import NEGLECTED_TERMS as NEGLECTED_TERMS  # Eq 3.29 (a leaf module)
 from .params import LinearModel
 from .response import Harmonics, harmonic_coefficients
 
@@ -57,10 +58,6 @@ def leg_momentum(harmonics: Harmonics, omega_rad_s) -> np.ndarray:
     return 1j * w * coef[0]
 
 
-#: The three neglected terms of Eq 3.29.
-NEGLECTED_TERMS: tuple[str, ...] = ("v C1 q", "g K0 int q dt", "v^2 K2 int q dt")
-
-
 def neglected_momenta_ratios(model: LinearModel, harmonics: Harmonics, speed_m_s,
                              omega_rad_s) -> np.ndarray:
     """Neglected momenta of Eq 3.29 as ratios of the leg momentum, at the cadence harmonic.
@@ -72,7 +69,8 @@ def neglected_momenta_ratios(model: LinearModel, harmonics: Harmonics, speed_m_s
     Returns
     -------
     numpy.ndarray
-        Shape ``broadcast(speed, omega) + (3, 2)``: term (:data:`NEGLECTED_TERMS`) x coordinate.
+        Shape ``broadcast(speed, omega) + (3, 2)``: term
+        (:data:`pedalrepro.momentum_terms.NEGLECTED_TERMS`) x coordinate.
         Infinite at zero cadence.
     """
     q = cam_coefficients(model, harmonics)[:, 0]  # (2,)

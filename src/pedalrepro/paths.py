@@ -28,7 +28,7 @@ STYLE: Path = Path(__file__).with_name("pedalrepro.mplstyle")
 
 #: Sub-folders of the results folder: what goes where.
 LAYOUT: dict[str, str] = {
-    "tables": "tables",              # CSV tables, ids as in FIGURES.md (table_d_1.csv)
+    "tables": "tables",              # CSV tables, ids of data/figure_ids.yaml
     "figures": "figures",            # <id>.png (+ <id>.pdf, the vector copy)
     "intermediate": "intermediate",  # arrays (npz) shared between rules, figures, notebooks
     "logs": "logs",                  # one log per rule job
@@ -53,7 +53,7 @@ def _sub(kind: str, root: str | Path | None) -> Path:
 
 
 def tables(root: str | Path | None = None) -> Path:
-    """``results/tables``: CSV tables (ids as in FIGURES.md, e.g. ``table_d_1.csv``).
+    """``results/tables``: CSV tables (ids of ``data/figure_ids.yaml``, e.g. ``table_d_1.csv``).
 
     ``root``: another results folder (the Snakemake helpers pass ``config["results_dir"]``)."""
     return _sub("tables", root)

@@ -15,11 +15,12 @@ synthetic stand-in are not measurements.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from . import disturbance, linear, params, report, response
+from . import disturbance, linear, params, response
 
 TABLE_4_1_COLUMNS: tuple[str, ...] = (
     "system", "speed_kmh", "cadence_rpm", "cadence_measured_rpm", "roll_measured_rad",
@@ -31,10 +32,6 @@ TABLE_4_2_COLUMNS: tuple[str, ...] = (
     "system", "n_runs", "roll_rd_median_percent", "roll_rd_range_percent",
     "steer_rd_median_percent", "steer_rd_range_percent", "data_source",
 )
-NOT_MEASUREMENT = ("figshare unreachable from this machine; the synthetic stand-in is not the "
-                   "measurement")
-
-
 #: What a table shows for each ``data_source`` value in its first column (:func:`labelled`).
 DATA_LABELS: dict[str, str] = {"synthetic": "SYNTHETIC", "figshare": "measured",
                                "public_subset": "measured (public subset)"}
@@ -43,7 +40,7 @@ DATA_LABELS: dict[str, str] = {"synthetic": "SYNTHETIC", "figshare": "measured",
 def labelled(table: pd.DataFrame) -> pd.DataFrame:
     """A chapter-4 table as the book shows it: its first column ``data`` says where each row's
     measured values come from (``SYNTHETIC``, ``measured`` or ``measured (public subset)``,
-    :data:`DATA_LABELS`), in place of the last column ``data_source`` (issue 13, part 4).
+    :data:`DATA_LABELS`), in place of the last column ``data_source``.
 
     Examples
     --------
@@ -205,56 +202,6 @@ def table_4_2(per_run: pd.DataFrame, data_source: str,
     return pd.DataFrame(rows, columns=list(TABLE_4_2_COLUMNS))
 
 
-def report_rows(t41: pd.DataFrame, t42: pd.DataFrame, published: dict, data_source: str,
-                reason: str = "") -> list[report.Row]:
-    """Reproduction-report rows: Table 4.1 (measured columns, median RD) and Table 4.2.
-
-    Measured quantities built from the synthetic stand-in get the status ``not reproducible
-    here`` with the reason; from the real data they are compared by the checks of
-    ``data/published/claims.yaml`` (ids ``table_4_1.measured.*``, ``table_4_1.median_rd.*``,
-    ``table_4_2.*``). The model columns are the linear part's rows
-    ("Table 4.1 <column> <roll|steer> model", ``rules/scripts/linear_report.py``), not repeated
-    here.
-    """
-    rows: list[report.Row] = []
-    synthetic = data_source != "figshare"
-    why = (reason or NOT_MEASUREMENT) if synthetic else None
-
-    def check(claim_id: str, value: float, **fields) -> report.Row:
-        # a SYNTHETIC value never stands in the "reproduced" cell beside a published number: the
-        # cell says n/a and the note gives the stand-in's value, labelled (issue 13, part 4)
-        if not synthetic:
-            return report.check(claim_id, value, **fields)
-        c = report.claim(claim_id)
-        return report.check(c, None, unavailable=why,
-                            note=f"{why}. SYNTHETIC stand-in value: {c.fmt.format(value)} "
-                                 "(not a measurement, not compared)", **fields)
-
-    pub = published["table_4_1_model_validation"]
-    runs = t41[~t41.system.isin(["median", "range"])].reset_index(drop=True)
-    for i, (sys_, v) in enumerate(zip(pub["system"], pub["speed_kmh"], strict=True)):
-        hit = runs[(runs.system == sys_) & np.isclose(runs.speed_kmh, float(v))]
-        if hit.empty:
-            raise ValueError(f"Table 4.1 lacks {sys_} at {v} km/h")
-        row = hit.iloc[0]
-        for q in ("roll", "steer"):
-            rows.append(check(
-                "table_4_1.measured.{coord}.{system}_{speed}", float(row[f"{q}_measured_rad"]),
-                coord=q, system=sys_, speed=v, i=i))
-    for q in ("roll", "steer"):
-        got = float(t41.loc[t41.system == "median", f"{q}_rd_percent"].iloc[0])
-        rows.append(check("table_4_1.median_rd.{coord}", got, coord=q))
-    p42 = published["table_4_2_open_vs_closed_loop"]
-    for i, sys_ in enumerate(p42["systems"]):
-        hit = t42[t42.system == sys_]
-        for key in ("roll_rd_median_percent", "roll_rd_range_percent",
-                    "steer_rd_median_percent", "steer_rd_range_percent"):
-            rows.append(check(
-                "table_4_2.{key}.{system}", float(hit[key].iloc[0]), key=key, system=sys_, i=i,
-                quantity=key.replace("_", " ")))
-    return rows
-
-
 def example_runs(per_run: pd.DataFrame, system: str, n: int = 6) -> pd.DataFrame:
     """Up to ``n`` runs of a system spread evenly over its speeds (Figs 4.2-4.9)."""
     sub = per_run[per_run.system == system].sort_values(["speed_kmh", "run_id"])
@@ -350,46 +297,6 @@ def method_comparison(row: pd.Series, published: dict) -> pd.DataFrame:
     return pd.DataFrame(out, columns=list(COMPARISON_COLUMNS))
 
 
-def real_report_rows(comparison: pd.DataFrame, published: dict | None = None
-                     ) -> list[report.Row]:
-    """Report rows of a real public-subset run (thesis method): its cadence, roll and steer
-    against the Table 4.1 column of the same belt speed, and against the column it matches best
-    when that is another one (claims ``table_4_1.real_run_{run}.*`` of
-    ``data/published/claims.yaml``); the notes name the best column of both methods.
-    ``published``: :func:`pedalrepro.params.published` (default: read it)."""
-    pub = (published or params.published())["table_4_1_model_validation"]
-    rows: list[report.Row] = []
-    for rid, comp in comparison.groupby("run_id"):
-        th = comp[comp.method == "thesis"]
-        best = {m: comp[comp.method == m].sort_values("n_matches", ascending=False,
-                                                      kind="stable").iloc[0]
-                for m in ("thesis", "exact")}
-        note = "; ".join(f"{m} method: best match {b.column} ({b.n_matches} of 3)"
-                         for m, b in best.items())
-        picks = [(r, "same belt speed") for _, r in th[th.belt_speed_matches].iterrows()]
-        if not best["thesis"].belt_speed_matches:
-            picks.append((best["thesis"], "best-matching column"))
-        for s, why in picks:
-            system = s.column.split()[0]
-            hit = [i for i, (sy, v) in enumerate(zip(pub["system"], pub["speed_kmh"],
-                                                     strict=True))
-                   if sy == system and abs(float(v) - s.speed_published_kmh) <= 0.05]
-            if len(hit) != 1:
-                raise ValueError(f"Table 4.1 has no single column {s.column!r} "
-                                 "(thesis_values.yaml: table_4_1_model_validation)")
-            fields = dict(run=int(rid), system=system, speed=f"{s.speed_published_kmh:g}",
-                          i=hit[0], why=why, belt=f"{s.speed_kmh:.1f}")
-            rows.append(report.check("table_4_1.real_run_{run}.cadence.{system}_{speed}",
-                                     float(s.cadence_rpm), note=f"public subset (real); {note}",
-                                     **fields))
-            for q in ("roll", "steer"):
-                rows.append(report.check(
-                    "table_4_1.real_run_{run}.{coord}_measured.{system}_{speed}",
-                    float(s[f"{q}_rad"]), coord=q, note=f"public subset (real); {note}",
-                    **fields))
-    return rows
-
-
 def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.DataFrame,
                      source: dict, published: dict) -> dict:
     """Every chapter-4 table from the per-run extraction (the rule ``validation_tables``).
@@ -398,7 +305,8 @@ def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.
     median and range, Table 4.2 and the per-run table; real public-subset rows follow in
     Table 4.1 and the per-run table with their own ``data_source`` and are never pooled.
 
-    Returns ``t41, t42, per_run, comparison`` (DataFrames) and ``report`` (rows).
+    Returns ``t41, t42, per_run, comparison`` (DataFrames); their report rows are
+    :func:`pedalrepro.validation_report.chapter_4_rows` (the rule ``validation_report``).
     """
     ds = source["data_source"]
     main = measured[measured.data_source == ds]
@@ -413,12 +321,29 @@ def chapter_4_tables(measured: pd.DataFrame, selection: pd.DataFrame, model: pd.
         comparison = pd.concat([method_comparison(r, published) for _, r in real.iterrows()
                                 if r.system in set(published["table_4_1_model_validation"]
                                                    ["system"])], ignore_index=True)
-    rows = report_rows(t41[t41.data_source == ds], t42, published, ds,
-                       "" if ds == "figshare" else source["reason"])
-    if not comparison.empty:
-        rows += real_report_rows(comparison)
-    return {"t41": t41, "t42": t42, "per_run": per_run, "comparison": comparison,
-            "report": rows}
+    return {"t41": t41, "t42": t42, "per_run": per_run, "comparison": comparison}
+
+
+def chapter_4_from_files(measured_csv: str | Path, runs_dir: str | Path, source_json: str | Path,
+                         model_csv: str | Path, published: dict | None = None
+                         ) -> tuple[dict, dict]:
+    """:func:`chapter_4_tables` from the treadmill part's files: the per-run extraction
+    (``mocap/measured.csv``), the run files (``mocap/runs``, for Table 4.1's run selection), the
+    data source record (``mocap/source.json``) and the linear part's ``table_4_1_model.csv``.
+    Returns ``(tables, source)``; what the rules ``validation_tables`` (the tables) and
+    ``validation_report`` (their report rows) both start from."""
+    import json
+
+    from .mocap import runs
+
+    source = json.loads(Path(source_json).read_text())
+    measured = pd.read_csv(measured_csv)
+    main = measured[measured.data_source == source["data_source"]]
+    selection = runs.table_4_1_runs(runs.index_runs(runs_dir),
+                                    dict(zip(main.run_id, main.cadence_rpm, strict=True)))
+    tables = chapter_4_tables(measured, selection, pd.read_csv(model_csv), source,
+                              published or params.published())
+    return tables, source
 
 
 def real_example(per_run: pd.DataFrame, series) -> dict[str, np.ndarray] | None:

@@ -32,7 +32,7 @@ from .palette import (
 
 Arrays = Mapping[str, np.ndarray]
 
-#: Every time-solution method of the thesis (FIGURES.md); the linear part makes LA and LN.
+#: Every time-solution method of the thesis (Sec 3.1.2); the linear part makes LA and LN.
 ALL_TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
 MODELS4 = ("HS", "CF", "HR", "CR")
 AMP_LEVELS = np.linspace(0.0, 0.04, 9)
@@ -443,7 +443,7 @@ def fig_neglected_momenta(data: Arrays, model: str) -> Figure:
     ``data``: :func:`pedalrepro.figdata.neglected_momenta` (``ratios`` (n_v, n_w, 3, 2)).
     Contours of each term at 1/4 and 1; filled where all three < 1/4; the GR band hatched.
     """
-    from ..momentum import NEGLECTED_TERMS
+    from ..momentum_terms import NEGLECTED_TERMS
 
     speed_m_s, omega_rad_s, ratios = data["speed_m_s"], data["omega_rad_s"], data["ratios"]
     gear_ratios, wheel_radius_m = data["gear_band"], float(data["wheel_radius_m"])
@@ -635,7 +635,7 @@ def fig_rd_points(rd: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: st
     1a (NT vs NP) and 1b (LA vs NT) need the non-linear time solutions; they are drawn when
     present, otherwise the panel says so.
     """
-    from ..evaluation import relative_difference
+    from ..relative_difference import relative_difference
 
     fig, axes = plt.subplots(3, 2, figsize=(WIDTH_IN, 7.6), sharex=True, sharey=True,
                              layout="constrained")

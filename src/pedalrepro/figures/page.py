@@ -34,8 +34,8 @@ MIN_FONT_PT = 8.0
 
 def check_legible(fig: matplotlib.figure.Figure, name: str = "figure") -> None:
     """Raise ValueError if ``fig`` is wider than :data:`MAX_WIDTH_IN` or shows text smaller
-    than :data:`MIN_FONT_PT` (issue 13: figures drawn for the page; split dense figures into
-    rows instead)."""
+    than :data:`MIN_FONT_PT` (figures are drawn for the page: split dense figures into rows
+    instead)."""
     from matplotlib.text import Text
 
     width = float(fig.get_size_inches()[0])

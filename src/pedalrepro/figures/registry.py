@@ -10,11 +10,13 @@ never computes a sweep: what a figure needs beyond the sweep rules' files is wri
 
 Input names are the drawing function's keyword arguments; a dotted name ``"time.LA"`` groups
 files into a dict (``time={"LA": ..., "LN": ...}``). Files are loaded by suffix: ``.npz`` -> dict
-of arrays, ``.csv`` -> DataFrame, ``.json`` -> dict.
+of arrays (the time-solution files ``time.<method>`` through :func:`pedalrepro.timesolution.read`,
+which checks their keys), ``.csv`` -> DataFrame, ``.json`` -> dict.
 """
 
 from __future__ import annotations
 
+import importlib
 import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -23,12 +25,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import paths
-from . import linear, nonlinear, periodic, section2, validation  # static: the rules' inputs
+from .. import paths, timesolution
 from .page import save, style
 
-_MODULES = {"linear": linear, "nonlinear": nonlinear, "periodic": periodic,
-            "section2": section2, "validation": validation}
+#: The drawing modules of :mod:`pedalrepro.figures`, imported by name when a figure is drawn
+#: (:meth:`FigureSpec.callable`), so that a group's rule depends on its own modules only
+#: (:func:`code_sources`), not on every part's.
+MODULES: tuple[str, ...] = ("linear", "nonlinear", "periodic", "section2", "validation")
 
 #: Time-solution methods of the thesis; NT and NP are optional inputs (the non-linear part).
 TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
@@ -76,9 +79,16 @@ class FigureSpec:
     optional: frozenset = frozenset()
     complete_when: tuple[tuple[str, str], ...] = ()
 
+    @property
+    def module(self) -> str:
+        """The drawing module's name in :mod:`pedalrepro.figures` (one of :data:`MODULES`)."""
+        return self.function.rsplit(".", 1)[0]
+
     def callable(self) -> Callable:
         module, func = self.function.rsplit(".", 1)
-        return getattr(_MODULES[module], func)
+        if module not in MODULES:
+            raise KeyError(f"{self.id}: {module!r} is not a drawing module ({', '.join(MODULES)})")
+        return getattr(importlib.import_module(f"{__package__}.{module}"), func)
 
 
 FIGURES: dict[str, FigureSpec] = {}
@@ -196,7 +206,7 @@ for _s, (_ft, _ff) in {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"
 _register("fig_4_10", "validation", "validation", "validation.draw_fig_4_10", _VALIDATION)
 _register("fig_4_11", "validation", "validation", "validation.draw_fig_4_11", _VALIDATION)
 # Not a thesis figure: the REAL public-subset run (measured vs model, time and spectrum), or a
-# panel saying the build has none (issue 12).
+# panel saying the build has none.
 _register("real_run_panel", "validation", "validation", "validation.draw_real_run_panel",
           {"source": _VALIDATION["source"], "model": _VALIDATION["model"]})
 
@@ -235,6 +245,18 @@ def ids(part: str | None = None, group: str | None = None) -> list[str]:
 def groups() -> list[str]:
     """The Snakemake job groups, sorted."""
     return sorted({s.group for s in FIGURES.values()})
+
+
+def code_sources(group: str) -> list[str]:
+    """Source files whose import closure is the code of figure group ``group``'s rule, relative
+    to the repository: the drawing modules of its figures (``src/pedalrepro/figures/<m>.py``).
+    ``rules/figures.smk`` adds ``scripts/figures.py`` (this registry and the page style) and
+    takes :func:`pedalrepro.dependencies.code_inputs` of both, so editing one part's drawing
+    code reruns that part's figures only."""
+    modules = sorted({s.module for s in FIGURES.values() if s.group == group})
+    if not modules:
+        raise KeyError(f"{group!r} is not a figure group ({', '.join(groups())})")
+    return [f"src/pedalrepro/figures/{m}.py" for m in modules]
 
 
 def inputs(fid: str, root: str | Path | None = None,
@@ -279,10 +301,12 @@ def load_inputs(fid: str, root: str | Path | None = None) -> dict[str, Any]:
             raise FileNotFoundError(f"{fid} reads {path}, which does not exist (run the "
                                     "pipeline: snakemake <that file>)")
         head, _, key = name.partition(".")
+        # time-solution files are read (and their keys checked) by their own module
+        value = timesolution.read(path) if head == "time" else _load(path)
         if key:
-            args.setdefault(head, {})[key] = _load(path)
+            args.setdefault(head, {})[key] = value
         else:
-            args[head] = _load(path)
+            args[head] = value
     return args
 
 
@@ -323,23 +347,3 @@ def completeness(fid: str, root: str | Path | None = None) -> tuple[str, list[st
                 if key not in d.files:
                     lacking.append(label)
     return (PARTIAL, lacking) if lacking else (COMPLETE, [])
-
-
-def coverage(root: str | Path | None = None):
-    """:func:`pedalrepro.report.figure_coverage` (every thesis id, ``present``) plus ``status``
-    ``complete`` / ``partial`` / ``missing`` and ``lacking`` (what a partial figure lacks: a
-    method or panel the thesis shows; :func:`completeness`) - the report page's figure count."""
-    from .. import report
-
-    ids = report.figure_coverage(root)
-    status, lacking = [], []
-    for fid, present in zip(ids["id"], ids["present"], strict=True):
-        if fid in FIGURES:
-            st, what = completeness(fid, root)
-        else:  # a table
-            st, what = (COMPLETE if present else MISSING), []
-        status.append(st)
-        lacking.append(", ".join(what))
-    ids["status"] = status
-    ids["lacking"] = lacking
-    return ids

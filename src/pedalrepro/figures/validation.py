@@ -7,7 +7,7 @@ stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_s
 files (per-run table, measured series, data source, and the model maps and series written by
 the rule ``validation_figure_data``, :func:`pedalrepro.figdata.validation`). Models are drawn in
 their chapter-3 colours (:mod:`pedalrepro.figures.palette`). Figures 4.2-4.11 show only the
-build's main source (``source.json``); the REAL public-subset run (issue 12) has its own,
+build's main source (``source.json``); the REAL public-subset run has its own,
 non-thesis panel, ``real_run_panel`` (:func:`draw_real_run_panel`), never pooled with them.
 """
 

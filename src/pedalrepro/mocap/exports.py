@@ -12,8 +12,9 @@ repository ``mechmotum/no-hands-riding`` (registry ``data/registry_public.txt``,
   distance, column 32 empty, column 33 = the belt distance itself (m). The raw x is columns
   1-31 minus column 33, and the belt speed is the slope of column 33 (0.0694444 m per sample at
   100 Hz = 25.0 km/h for run 3045);
-- ``.xlsx`` (Office Open XML, read here with the standard library: no spreadsheet package is
-  needed) or ``.csv`` (``;`` or ``,`` separated, optional UTF-8 byte-order mark).
+- ``.xlsx`` (Office Open XML, read with ``python-calamine``, the Python binding of the Rust
+  spreadsheet reader calamine) or ``.csv`` (``;`` or ``,`` separated, optional UTF-8 byte-order
+  mark).
 
 No metadata travels with the files: bicycle, task and rider come from the committed table
 ``data/parameters/public_runs.yaml`` (which cites the evidence for each entry), the belt speed
@@ -30,12 +31,10 @@ from __future__ import annotations
 
 import csv
 import io
-import re
-import zipfile
 from pathlib import Path
-from xml.etree import ElementTree
 
 import numpy as np
+import python_calamine
 
 from .. import params, paths
 from .reader import (
@@ -51,7 +50,6 @@ from .reader import (
 )
 
 PUBLIC_RUNS: Path = paths.PARAMETERS / "public_runs.yaml"
-_NS = "{http://schemas.openxmlformats.org/spreadsheetml/2006/main}"
 
 
 class IncompleteRunError(MocapFileError):
@@ -69,73 +67,29 @@ def export_parts(path: str | Path) -> tuple[int, str]:
     return int(m.group("run")), m.group("coord").lower()
 
 
-def _column_index(ref: str) -> int:
-    """0-based column of a cell reference (``"AG6000"`` -> 32)."""
-    col = 0
-    for ch in ref:
-        if not ch.isalpha():
-            break
-        col = col * 26 + (ord(ch.upper()) - 64)
-    return col - 1
-
-
 def read_xlsx(path: str | Path) -> np.ndarray:
     """The first worksheet of an ``.xlsx`` file as a float array (empty cell or text -> NaN).
 
-    Standard library only (``zipfile`` + ``xml.etree``): numbers are read from the cells'
-    ``<v>`` values, shared strings (``NaN`` in the exports) become NaN.
+    Read with ``python-calamine``: numeric cells are the float64 of the stored decimal text (the
+    same bits as ``float(text)``), text cells (``NaN`` in the exports) and empty cells become
+    NaN; the array spans row 1 and column A to the last used cell, as the sheet is laid out.
     """
     path = Path(path)
     try:
-        with zipfile.ZipFile(path) as z:
-            names = z.namelist()
-            sheet = "xl/worksheets/sheet1.xml"
-            if sheet not in names:
-                sheets = sorted(n for n in names if n.startswith("xl/worksheets/sheet"))
-                if not sheets:
-                    raise MocapFileError(f"{path}: no worksheet in this .xlsx file")
-                sheet = sheets[0]
-            strings: list[str] = []
-            if "xl/sharedStrings.xml" in names:
-                root = ElementTree.fromstring(z.read("xl/sharedStrings.xml"))
-                strings = ["".join(t.text or "" for t in si.iter(f"{_NS}t"))
-                           for si in root.iter(f"{_NS}si")]
-            xml = z.read(sheet).decode("utf-8")
-        cells = _CELL.findall(xml)
-        if len(cells) != xml.count("<c "):  # an unusual cell layout: parse the XML properly
-            cells = _cells_etree(xml)
-    except zipfile.BadZipFile as exc:
-        raise MocapFileError(f"{path}: not a valid .xlsx file (corrupt or truncated?): "
-                             f"{exc}") from exc
-    except ElementTree.ParseError as exc:
-        raise MocapFileError(f"{path}: damaged worksheet XML: {exc}") from exc
-    if not cells:
+        workbook = python_calamine.CalamineWorkbook.from_path(str(path))
+        if not workbook.sheet_names:
+            raise MocapFileError(f"{path}: no worksheet in this .xlsx file")
+        rows = workbook.get_sheet_by_index(0).to_python(skip_empty_area=False)
+    except python_calamine.CalamineError as exc:
+        raise MocapFileError(f"{path}: not a readable .xlsx file (corrupt or truncated?): "
+                             f"{type(exc).__name__}: {exc}") from exc
+    if not rows or not any(rows):
         raise MocapFileError(f"{path}: the worksheet is empty")
-    cols = np.array([_column_index(c[0]) for c in cells])
-    rows = np.array([int(c[1]) for c in cells]) - 1
-    values = np.array([(_number(strings[int(v)]) if int(v) < len(strings) else np.nan)
-                       if k == "s" else (_number(v) if v else np.nan)
-                       for _, _, k, v in cells])
-    out = np.full((rows.max() + 1, cols.max() + 1), np.nan)
-    out[rows, cols] = values
-    return out
-
-
-#: A worksheet cell ``<c r="C12" [s=".."] [t=".."]><v>value</v></c>`` (the layout every
-#: spreadsheet writer uses); a file this does not match is parsed with ElementTree.
-_CELL = re.compile(r'<c r="([A-Z]+)(\d+)"(?:\s+s="\d+")?(?:\s+t="(\w+)")?(?:\s+s="\d+")?'
-                   r'\s*(?:/>|>(?:<f>[^<]*</f>)?(?:<v>([^<]*)</v>)?</c>)')
-
-
-def _cells_etree(xml: str) -> list[tuple[str, str, str, str]]:
-    out = []
-    for el in ElementTree.fromstring(xml).iter(f"{_NS}c"):
-        m = re.match(r"([A-Z]+)(\d+)", el.get("r", ""))
-        if m is None:
-            raise MocapFileError("worksheet cell without a reference")
-        v = el.find(f"{_NS}v")
-        out.append((m.group(1), m.group(2), el.get("t") or "",
-                    v.text if v is not None and v.text else ""))
+    out = np.full((len(rows), max(len(r) for r in rows)), np.nan)
+    for i, row in enumerate(rows):
+        for j, value in enumerate(row):
+            if isinstance(value, float | int) and not isinstance(value, bool):
+                out[i, j] = value
     return out
 
 

@@ -1,6 +1,9 @@
 """Record what a process really reads (for tests/test_change_tracking.py; off unless asked).
 
-With ``PEDALREPRO_TRACE=<folder>`` set, importing :mod:`pedalrepro` installs an audit hook
+Loaded by the tests, never by the package: the session fixture ``quick_workflow``
+(tests/conftest.py) puts this folder first on ``PYTHONPATH`` and sets ``PEDALREPRO_TRACE=<folder>``
+for its Snakemake run, so every Python process of the run (Snakemake, each rule script, the
+book's notebook kernels) imports this ``sitecustomize`` at start-up. It installs an audit hook
 (:func:`sys.addaudithook`) noting every file opened under ``data/`` and every non-Python file of
 the package, and at exit writes ``<folder>/<pid>.json``: the program (``sys.argv[0]``; a rule
 script runs as ``.snakemake/scripts/tmpXXXX.<script>.py``), those files and the pedalrepro
@@ -11,6 +14,7 @@ rule's script, so a module reading a file its rule does not declare fails CI.
 from __future__ import annotations
 
 import atexit
+import importlib.util
 import json
 import os
 import sys
@@ -22,7 +26,10 @@ def install(folder: str | os.PathLike) -> None:
     if getattr(install, "done", False):
         return
     install.done = True
-    package = Path(__file__).resolve().parent
+    spec = importlib.util.find_spec("pedalrepro")  # finds the package without importing it
+    if spec is None or spec.origin is None:
+        return
+    package = Path(spec.origin).resolve().parent
     root = package.parents[1]
     watched = (str(root / "data") + os.sep, str(package) + os.sep)
     opened: set[str] = set()
@@ -51,3 +58,7 @@ def install(folder: str | os.PathLike) -> None:
 
     sys.addaudithook(hook)
     atexit.register(dump)
+
+
+if os.environ.get("PEDALREPRO_TRACE"):
+    install(os.environ["PEDALREPRO_TRACE"])
