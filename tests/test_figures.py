@@ -22,7 +22,8 @@ from pedalrepro.figures import nonlinear as fig_nl  # noqa: E402
 from pedalrepro.figures import palette, registry  # noqa: E402
 
 #: Registered figures that are not thesis ids (checks shown beside a thesis figure).
-EXTRA = {"nonlinear_linearisation_vs_appendix_b", "real_run_panel"}
+EXTRA = {"nonlinear_linearisation_vs_appendix_b", "real_run_panel",
+         *(f"nonlinear_examples_{m}" for m in registry.MODELS4)}
 
 
 def test_registry_covers_every_thesis_figure_once():
