@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 import struct
 import threading
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
@@ -178,6 +179,7 @@ def test_every_page_in_a_browser(served_book):
     images: list[dict] = []  # every image of every page: caption, full-size link
     widest = [0.0, 0, 0, ""]  # the widest table: width / column, width, column (px), where
     page_bytes: dict[str, int] = {}
+    anchors: list[tuple[str, str]] = []  # (page, href) of every link to a figure anchor
 
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
@@ -239,6 +241,8 @@ def test_every_page_in_a_browser(served_book):
                 widest[:] = [cells["widest"] / cells["column"], cells["widest"], cells["column"],
                              f"{rel} {cells['widestText']}"]
             page_bytes[rel] = (html_root / rel).stat().st_size
+            anchors.extend((rel, h) for h in page.eval_on_selector_all(
+                "main a[href*='#pedalrepro-']", "els => els.map(e => e.getAttribute('href'))"))
             n_tables += page.evaluate("() => document.querySelectorAll('main table').length")
             if rel in SCREENSHOTS:
                 page.screenshot(path=str(results / "book" / SCREENSHOTS[rel]), full_page=True)
@@ -276,6 +280,7 @@ def test_every_page_in_a_browser(served_book):
         browser.close()
 
     assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
+    coverage_ids = list(report.figure_ids()["id"])
     # every image, not only the thesis figures: a caption and a full-size link (issue 25, part 2)
     bare = [f"{i['page']} {i['name'] or i['alt'] or i['src']}: "
             + ", ".join(w for w, ok in (("no caption", i["captioned"]),
@@ -290,6 +295,17 @@ def test_every_page_in_a_browser(served_book):
     heavy = {p: f"{b / 1e6:.1f} MB" for p, b in page_bytes.items() if b > MAX_PAGE_BYTES}
     assert not heavy, f"pages above {MAX_PAGE_BYTES / 1e6:g} MB (inlined images?): {heavy}"
     assert not bare, "images without a caption or a full-size link:\n" + "\n".join(bare)
+    # links to figure anchors (the Appendices page links every appendix figure) land on them
+    broken_anchors = []
+    for rel, href in anchors:
+        target, _, anchor = href.partition("#")
+        path = (html_root / rel).parent / target if target else html_root / rel
+        if f'id="{anchor}"' not in path.resolve().read_text(encoding="utf-8"):
+            broken_anchors.append(f"{rel}: {href}")
+    assert not broken_anchors, broken_anchors
+    appendix_links = {h.partition("#")[2] for r, h in anchors if r == "appendices.html"}
+    appendix_ids = {f"pedalrepro-{i}" for i in coverage_ids if re.match(r"(fig|table)_[a-h]_", i)}
+    assert appendix_ids <= appendix_links, sorted(appendix_ids - appendix_links)
     assert not problems, "\n".join(problems)
     assert not link_problems, "\n".join(link_problems)
     # figures drawn for the page: each figure the pipeline wrote is linked to its full-size PNG

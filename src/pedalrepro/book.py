@@ -45,6 +45,33 @@ def thesis_label(figure_id: str) -> str:
     return ("Table " if kind == "table" else "Figure ") + ".".join(parts)
 
 
+def figure_anchor(figure_id: str) -> str:
+    """The HTML id of a figure or table in the book (``"pedalrepro-fig_g_2"``): other pages link
+    ``<page>.html#<anchor>``."""
+    thesis_label(figure_id)  # a bad id fails here
+    return f"pedalrepro-{figure_id}"
+
+
+def pages_showing(figure_ids, notebooks_dir: Path | None = None) -> dict[str, str]:
+    """Which book notebook shows each figure id (the notebook whose code names it in quotes), as
+    ``{id: "notebooks/<stem>"}``; ids no notebook names are left out."""
+    import json
+
+    folder = Path(notebooks_dir) if notebooks_dir is not None else paths.ROOT / "notebooks"
+    sources = {}
+    for nb in sorted(folder.glob("*.ipynb")):
+        cells = json.loads(nb.read_text())["cells"]
+        sources[nb.stem] = "\n".join("".join(c["source"]) for c in cells
+                                     if c["cell_type"] == "code")
+    found = {}
+    for fid in figure_ids:
+        for stem, code in sources.items():
+            if f'"{fid}"' in code or f"'{fid}'" in code:
+                found[fid] = f"notebooks/{stem}"
+                break
+    return found
+
+
 def _figure_src(path: Path) -> str | None:
     """The book's address of a file under the results' figure folder, or None if it is not one."""
     try:
@@ -101,7 +128,7 @@ def figure_html(figure_id: str, png: bytes | None = None, *, src: str | None = N
                     f'href="{BOOK_TABLES_HREF}{figure_id}.csv">CSV</a></span>')
     else:
         raise ValueError("figure_html needs png=, src= or table_html=")
-    return (f'<figure class="pedalrepro-figure" id="pedalrepro-{figure_id}" '
+    return (f'<figure class="pedalrepro-figure" id="{figure_anchor(figure_id)}" '
             f'data-figure-id="{figure_id}">{body}<figcaption>{cap}</figcaption></figure>')
 
 
