@@ -8,10 +8,12 @@ or table id the pipeline produced (``results/figures/<id>.png``, ``results/table
 in the book"). Figures drawn for the page (issue 13): every figure link (the image and its
 caption's "Full size: PNG · PDF") opens the full-size file, and no figure displays below 60 % of
 its native width unless it is linked full size; the displayed-size statistics are printed.
-No table is wider than the content column unless a scroll container holds it, and every link of
-the Downloads page (each result table's CSV, each figure's PNG and PDF) opens. Screenshots of the
-report page, a chapter-3 page and the own-bicycle page are saved as ``<results>/book/report.png``,
-``chapter3.png`` and ``own_bicycle.png``.
+No table is wider than the content column unless a scroll container holds it, and no table cell
+is cut off ("..." or an ellipsis); every image of every page (not only the thesis figures) has a
+caption and a full-size link, and no page is above 5 MB (images linked as files, issue 25); every
+link of the Downloads page (each result table's CSV, each figure's PNG and PDF) opens.
+Screenshots of the report page, a chapter-3 page and the own-bicycle page are saved as
+``<results>/book/report.png``, ``chapter3.png`` and ``own_bicycle.png``.
 
 Uses Debian's chromium (``apt-get install chromium chromium-driver``; ``scripts/setup.sh
 --browser``) through playwright; skipped with the reason when it is missing, unless
@@ -22,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 import struct
 import threading
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
@@ -61,6 +64,46 @@ OVERFLOWING_TABLES_JS = """() => {
     }).map(t => (t.closest('[data-figure-id]')?.dataset.figureId || '') + ' '
                 + t.innerText.slice(0, 60).replace(/\\s+/g, ' '));
 }"""
+
+
+#: Every image of a page's content: its figure's caption and its full-size link (issue 25, part 2).
+IMAGES_JS = """() => Array.from((document.querySelector('main') || document.body)
+        .querySelectorAll('img')).map(img => {
+    const fig = img.closest('figure');
+    const cap = fig ? fig.querySelector('figcaption') : null;
+    const a = img.closest('a');
+    return {name: fig ? (fig.dataset.figureId || fig.dataset.figureFile || '') : '',
+            alt: img.getAttribute('alt') || '', src: img.getAttribute('src').slice(0, 80),
+            captioned: !!(cap && cap.innerText.trim().length > 0),
+            linked: !!(a && a.getAttribute('href') && !a.getAttribute('href').startsWith('data:')),
+            inlined: img.getAttribute('src').startsWith('data:')};
+})"""
+#: Cells cut off: shown as "..." (pandas' truncation) or clipped with an ellipsis; and the
+#: widest table against the content column (its full width, scrolled or not).
+TABLE_CELLS_JS = """() => {
+    const main = document.querySelector('main') || document.body;
+    const col = main.querySelector('article') || main;
+    const width = col.getBoundingClientRect().width;
+    const truncated = [];
+    let widest = 0, widestText = '';
+    for (const t of main.querySelectorAll('table')) {
+        if (t.scrollWidth > widest) {
+            widest = t.scrollWidth;
+            widestText = (t.closest('[data-figure-id]')?.dataset.figureId || '') + ' '
+                         + t.innerText.slice(0, 40).replace(/\\s+/g, ' ');
+        }
+        for (const c of t.querySelectorAll('td, th')) {
+            const text = c.innerText.trim();
+            const cs = getComputedStyle(c);
+            if (text === '...' || text === '\u2026'
+                || (cs.textOverflow === 'ellipsis' && c.scrollWidth > c.clientWidth + 1))
+                truncated.push(text.slice(0, 30));
+        }
+    }
+    return {truncated: truncated, widest: widest, column: width, widestText: widestText};
+}"""
+#: Largest HTML page (bytes): images are linked as files, not inlined (issue 25, part 6).
+MAX_PAGE_BYTES = 5_000_000
 
 
 def _require_browser() -> None:
@@ -133,6 +176,10 @@ def test_every_page_in_a_browser(served_book):
     n_tables = 0
     downloads: list[str] = []
     sizes: list[dict] = []  # one per figure image: id, native and displayed width, links
+    images: list[dict] = []  # every image of every page: caption, full-size link
+    widest = [0.0, 0, 0, ""]  # the widest table: width / column, width, column (px), where
+    page_bytes: dict[str, int] = {}
+    anchors: list[tuple[str, str]] = []  # (page, href) of every link to a figure anchor
 
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
@@ -185,6 +232,17 @@ def test_every_page_in_a_browser(served_book):
                 mathjax_pages += 1
             problems.extend(f"{rel}: table overflows the column without a scroll container: {t}"
                             for t in page.evaluate(OVERFLOWING_TABLES_JS))
+            for img in page.evaluate(IMAGES_JS):
+                img["page"] = rel
+                images.append(img)
+            cells = page.evaluate(TABLE_CELLS_JS)
+            problems.extend(f"{rel}: truncated table cell {c!r}" for c in cells["truncated"])
+            if cells["widest"] / cells["column"] > widest[0]:
+                widest[:] = [cells["widest"] / cells["column"], cells["widest"], cells["column"],
+                             f"{rel} {cells['widestText']}"]
+            page_bytes[rel] = (html_root / rel).stat().st_size
+            anchors.extend((rel, h) for h in page.eval_on_selector_all(
+                "main a[href*='#pedalrepro-']", "els => els.map(e => e.getAttribute('href'))"))
             n_tables += page.evaluate("() => document.querySelectorAll('main table').length")
             if rel in SCREENSHOTS:
                 page.screenshot(path=str(results / "book" / SCREENSHOTS[rel]), full_page=True)
@@ -222,6 +280,32 @@ def test_every_page_in_a_browser(served_book):
         browser.close()
 
     assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
+    coverage_ids = list(report.figure_ids()["id"])
+    # every image, not only the thesis figures: a caption and a full-size link (issue 25, part 2)
+    bare = [f"{i['page']} {i['name'] or i['alt'] or i['src']}: "
+            + ", ".join(w for w, ok in (("no caption", i["captioned"]),
+                                        ("no full-size link", i["linked"])) if not ok)
+            for i in images if not (i["captioned"] and i["linked"])]
+    good = len(images) - len(bare)
+    print(f"\nimages: {good} of {len(images)} with a caption and a full-size link; "
+          f"{sum(i['inlined'] for i in images)} inlined")
+    largest = max(page_bytes, key=page_bytes.get)
+    print(f"largest page: {largest} {page_bytes[largest] / 1e6:.2f} MB; widest table "
+          f"{widest[1]} px in a {widest[2]:.0f} px column ({widest[0]:.2f}x): {widest[3]}")
+    heavy = {p: f"{b / 1e6:.1f} MB" for p, b in page_bytes.items() if b > MAX_PAGE_BYTES}
+    assert not heavy, f"pages above {MAX_PAGE_BYTES / 1e6:g} MB (inlined images?): {heavy}"
+    # links to figure anchors (the Appendices page links every appendix figure) land on them
+    broken_anchors = []
+    for rel, href in anchors:
+        target, _, anchor = href.partition("#")
+        path = (html_root / rel).parent / target if target else html_root / rel
+        if f'id="{anchor}"' not in path.resolve().read_text(encoding="utf-8"):
+            broken_anchors.append(f"{rel}: {href}")
+    assert not broken_anchors, broken_anchors
+    appendix_links = {h.partition("#")[2] for r, h in anchors if r == "appendices.html"}
+    appendix_ids = {f"pedalrepro-{i}" for i in coverage_ids if re.match(r"(fig|table)_[a-h]_", i)}
+    assert appendix_ids <= appendix_links, sorted(appendix_ids - appendix_links)
+    assert not bare, "images without a caption or a full-size link:\n" + "\n".join(bare)
     assert not problems, "\n".join(problems)
     assert not link_problems, "\n".join(link_problems)
     # figures drawn for the page: each figure the pipeline wrote is linked to its full-size PNG

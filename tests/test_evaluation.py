@@ -57,3 +57,29 @@ def test_gears_and_ellipse():
     assert w.max() == pytest.approx(80 * np.pi / 30, rel=1e-3)
     assert gears.inside_ellipse(5.0, 2 * np.pi, (14, 22), (50, 80))  # the reference point
     assert not gears.inside_ellipse(9.0, 2 * np.pi, (14, 22), (50, 80))
+
+
+def test_one_speed_series_just_below_the_self_stable_range():
+    """Fig 3.18/3.19/3.28/3.29 (issue 25, part 4): the series speed is the fastest numbered
+    example point below the model's self-stable range (Sec 3.2.2, "just below the self-stable
+    range"), from the eigenvalues: HS gets point 3 (the thesis's Fig 3.18 is at point 3's speed);
+    CR gets a point below its range, where its weave real part is positive; CF (no self-stable
+    range) keeps point 3."""
+    import numpy as np
+
+    from pedalrepro import evaluation, linear
+
+    grid = np.arange(0.0, 15.0, 0.01)
+    for model in ("HS", "HR", "CR"):
+        pts = evaluation.example_points(model)
+        start = linear.stable_ranges(linear.linear_model(model), grid)[0][0]
+        v = pts.series_speed_m_s
+        assert v < start and v in pts.speed_m_s
+        assert not np.any((pts.speed_m_s > v) & (pts.speed_m_s < start))  # the fastest below
+        e = linear.eigenvalues(linear.linear_model(model), np.array([v]))[0]
+        weave = e[np.abs(e.imag) > 1e-9]
+        assert weave.real.max() > 0  # the weave is unstable there: the point of the figures
+    assert abs(evaluation.example_points("HS").series_speed_m_s - 5.6) < 1e-9
+    assert abs(evaluation.example_points("CR").series_speed_m_s - 4.4) < 1e-9
+    cf = evaluation.example_points("CF")
+    assert cf.series_speed_m_s == cf.speed_m_s[2]

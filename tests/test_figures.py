@@ -23,7 +23,8 @@ from pedalrepro.figures import palette, registry  # noqa: E402
 
 #: Registered figures that are not thesis ids (checks shown beside a thesis figure).
 EXTRA = {"nonlinear_linearisation_vs_appendix_b", "real_run_panel", "periodic_continuation",
-         "periodic_fine_maps"} | {f"periodic_maps_{m}" for m in registry.MODELS4}
+         "periodic_fine_maps", *(f"periodic_maps_{m}" for m in registry.MODELS4),
+         *(f"nonlinear_examples_{m}" for m in registry.MODELS4)}
 
 
 def test_registry_covers_every_thesis_figure_once():
@@ -223,3 +224,55 @@ def test_validation_figure_data_keeps_the_real_run_apart(tmp_path):
         fig = fv.draw_real_run_panel(source, no_real)
     assert "No real public-subset run" in fig.axes[0].texts[0].get_text()
     figures.save(fig, tmp_path / "no_real_run.png")
+
+
+def test_overlapping_colour_bars_are_found():
+    """Two colour bars on one spot (the periodic maps' fault, issue 25) are found from the drawn
+    bounding boxes; two side by side, each beside its own axes, are not."""
+    from pedalrepro.figures import page
+
+    z = np.arange(12.0).reshape(3, 4)
+    fig, axes = plt.subplots(1, 2, figsize=(7, 3), layout="constrained")
+    for ax in axes:
+        ax.pcolormesh(z)
+    fig.colorbar(axes[0].collections[0], ax=axes[0], label="amplitude (rad)")
+    fig.colorbar(axes[1].collections[0], ax=axes[1], label="RD (%)")
+    assert page.overlapping_colorbars(fig) == []
+    plt.close(fig)
+    fig, axes = plt.subplots(1, 2, figsize=(7, 3))
+    for ax in axes:
+        ax.pcolormesh(z)
+    cax = fig.add_axes([0.90, 0.1, 0.03, 0.8])
+    fig.colorbar(axes[0].collections[0], cax=cax, label="amplitude (rad)")
+    cax2 = fig.add_axes([0.905, 0.1, 0.03, 0.8])  # drawn on top of the first
+    fig.colorbar(axes[1].collections[0], cax=cax2, label="RD (%)")
+    found = page.overlapping_colorbars(fig)
+    assert any("'amplitude (rad)' overlaps colour bar 'RD (%)'" in f for f in found), found
+    cax3 = fig.add_axes([0.3, 0.3, 0.03, 0.4])  # over the first plot
+    fig.colorbar(axes[0].collections[0], cax=cax3, label="over")
+    assert any("'over' overlaps axes" in f for f in page.overlapping_colorbars(fig))
+    plt.close(fig)
+
+
+@pytest.mark.workflow
+def test_no_drawn_figure_has_overlapping_colour_bars(quick_workflow):
+    """Every registered figure, drawn from the quick build's results, and the periodic maps:
+    no colour bar over another colour bar or a plot (bounding boxes of the drawn axes)."""
+    import os
+
+    from pedalrepro.figures import page
+
+    assert quick_workflow.returncode == 0
+    os.environ["PEDALREPRO_RESULTS"] = str(quick_workflow.results)
+    try:
+        problems, n_bars = [], 0
+        for fid in registry.FIGURES:
+            with figures.style():
+                fig = registry.draw(fid)
+                n_bars += sum(getattr(a, "_colorbar", None) is not None for a in fig.axes)
+                problems += [f"{fid}: {p}" for p in page.overlapping_colorbars(fig)]
+            plt.close(fig)
+    finally:
+        del os.environ["PEDALREPRO_RESULTS"]
+    assert n_bars >= 20  # the maps of chapters 3 and 4 have colour bars
+    assert not problems, "\n".join(problems)

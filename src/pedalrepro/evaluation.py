@@ -77,9 +77,11 @@ class ExamplePoints:
 def example_points(model: str) -> ExamplePoints:
     """The six numbered points on the GR ~ 2.3 line (Fig 3.10-3.17, 3.20-3.27).
 
-    Also the one-speed series of Fig 3.18, 3.19, 3.28, 3.29: the speed of point 3 with the six
-    cadences in decreasing order (Sec 3.2.2: "the cadence frequency peak shifts to lower
-    frequencies" as the number grows). See the module docstring for this reading.
+    Also the one-speed series of Fig 3.18, 3.19, 3.28, 3.29: the six cadences in decreasing
+    order (Sec 3.2.2: "the cadence frequency peak shifts to lower frequencies" as the number
+    grows) at :func:`series_speed` (just below the model's self-stable range, where the thesis
+    sees the weave: "for a small forward speed range, just below the self-stable range"). See
+    the module docstring for this reading.
 
     Parameters
     ----------
@@ -91,7 +93,23 @@ def example_points(model: str) -> ExamplePoints:
     w = idx * DIAGONAL_OMEGA_STEP_RAD_S
     gr = float(DIAGONAL_SPEED_STEP_M_S / DIAGONAL_OMEGA_STEP_RAD_S
                / gears.wheel_radius_m(linear.bicycle_of(model)))
-    return ExamplePoints(v, w, gr, float(v[2]), w[::-1].copy())
+    return ExamplePoints(v, w, gr, series_speed(model, v), w[::-1].copy())
+
+
+def series_speed(model: str, speeds_m_s: np.ndarray) -> float:
+    """Speed of the one-speed series (Fig 3.18, 3.19, 3.28, 3.29): the fastest of the numbered
+    example points (``speeds_m_s``) below the start of the model's first self-stable range, from
+    its eigenvalues (Sec 3.2.2: the weave shows "for a small forward speed range, just below the
+    self-stable range ... a low positive real part of the oscillatory weave"); point 3 for a model
+    with no self-stable range (CF) or none below it.
+
+    HS: stable from 6.02 m/s -> 5.6 m/s, point 3, as the thesis's Fig 3.18; CR: from 5.05 m/s ->
+    4.4 m/s (point 3's 5.6 m/s lies inside CR's self-stable range, where the weave is damped).
+    """
+    grid = np.arange(0.0, 15.0, 0.01)
+    ranges = linear.stable_ranges(linear.linear_model(model), grid)
+    below = speeds_m_s[speeds_m_s < ranges[0][0]] if ranges else speeds_m_s[:0]
+    return float(below.max()) if below.size else float(speeds_m_s[2])
 
 
 def stable_speed_mask(model_name: str, speed_m_s: np.ndarray,

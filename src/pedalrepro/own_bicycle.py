@@ -640,15 +640,19 @@ def plot(own: OwnBicycle, rmap: ResonanceMap, values: Mapping[str, Any],
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .figures.linear import AMP_LEVELS
+
     fig, axes = plt.subplots(2, 1, figsize=(7, 6.4), sharex=True)  # page width, >= 8 pt text
     v, w = rmap.speed_m_s, rmap.omega_rad_s
     ev, ew = gears.normal_cycling_ellipse(normal_speed_kmh, normal_cadence_rpm)
     w_line = np.linspace(0, w.max(), 50)
     for ax, coord in zip(axes, ("roll", "steer"), strict=True):
         amp = getattr(rmap, f"{coord}_amp_rad")
-        cs = ax.contourf(v, w, np.log10(np.maximum(amp, 1e-6)).T, levels=20, cmap="viridis")
+        # the linear colour scale of the thesis's PS maps (Fig 3.35: AMP_LEVELS, 0-0.04 rad),
+        # so the two compare; amplitudes above it (the resonance) take the last colour
+        cs = ax.contourf(v, w, amp.T, levels=AMP_LEVELS, extend="max", cmap="viridis")
         cb = fig.colorbar(cs, ax=ax)
-        cb.set_label(f"log10 {coord} amplitude (rad)", fontsize=9)
+        cb.set_label(f"{coord} amplitude (rad)", fontsize=9)
         cb.ax.tick_params(labelsize=8)
         for gr in gear_ratios:
             ax.plot(gears.speed_m_s(gr, w_line, own.wheel_radius_m), w_line, "w--", lw=0.8)

@@ -49,6 +49,38 @@ def check_legible(fig: matplotlib.figure.Figure, name: str = "figure") -> None:
         raise ValueError(f"{name}: text below {MIN_FONT_PT} pt: {small[:5]}")
 
 
+def overlapping_colorbars(fig: matplotlib.figure.Figure) -> list[str]:
+    """Colour bars drawn over another colour bar or over a plot (issue 25: two colour bars of
+    the periodic maps were drawn on top of each other): the drawn bounding boxes (display
+    units, after a draw) of each colour bar axes, its ticks and label included, against those of
+    every other colour bar and the frame of every other axes. Returns one line per overlap
+    (empty: none)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    bars = [ax for ax in axes if getattr(ax, "_colorbar", None) is not None]
+
+    def name(ax) -> str:
+        label = ax.get_ylabel() or ax.get_xlabel() or ax.get_title() or "unlabelled"
+        return f"{'colour bar' if ax in bars else 'axes'} {label!r}"
+
+    found = []
+    for i, bar in enumerate(bars):
+        tight = bar.get_tightbbox(renderer)
+        frame = bar.get_window_extent(renderer)
+        for other in axes:
+            if other is bar or (other in bars and bars.index(other) < i):
+                continue
+            box = other.get_tightbbox(renderer) if other in bars else \
+                other.get_window_extent(renderer)
+            mine = tight if other in bars else frame
+            w = min(mine.x1, box.x1) - max(mine.x0, box.x0)
+            h = min(mine.y1, box.y1) - max(mine.y0, box.y0)
+            if w > 1.0 and h > 1.0:  # more than a pixel in both directions
+                found.append(f"{name(bar)} overlaps {name(other)} ({w:.0f} x {h:.0f} px)")
+    return found
+
+
 def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     """Save ``fig`` to ``path`` (PNG) and its vector copy beside it (same stem, ``.pdf``), in
     the project's style, creating the folder; close the figure. Checks :func:`check_legible`

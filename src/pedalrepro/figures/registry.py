@@ -190,6 +190,10 @@ _register("fig_3_34", "nonlinear", "nonlinear", "nonlinear.fig_3_34",
 _register("fig_e_1", "nonlinear", "nonlinear", "nonlinear.fig_e_1",
           {"cf": _i("nonlinear/eigen_cf_own.npz"),
            "cf_original_seat": _i("nonlinear/eigen_cf_original_seat.npz")})
+# Not thesis figures: the six example runs of NT against NP per model (the book's Sec 3.4).
+for _m in MODELS4:
+    _register(f"nonlinear_examples_{_m}", "nonlinear", "nonlinear", "nonlinear.example_runs",
+              {"nt": _i(f"time/NT_{_m}.npz"), "np_": _i(f"time/NP_{_m}.npz")}, {"model": _m})
 _register("nonlinear_linearisation_vs_appendix_b", "nonlinear", "nonlinear",
           "nonlinear.fig_linearisation_vs_appendix_b",
           {"table": _t("linearisation_vs_appendix_b")})
