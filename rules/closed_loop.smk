@@ -40,6 +40,8 @@ rule closed_loop_spectra:
         status=interm("closed_loop/spectra.json"),
     log:
         logfile("closed_loop_spectra"),
+    benchmark:
+        bench(\"closed_loop_spectra\")
     message:
         "Measured closed-loop spectra of CF (Moore's MotionCapture figures, sha256-checked)"
     script:
@@ -58,16 +60,35 @@ rule closed_loop_validation:
         t42=table("table_4_2_closed_loop"),
         stiffness=table("steer_stiffness"),
         time=interm("closed_loop/time_CF.npz"),
-        report=f"{R}/tables/report/closed_loop.csv",
     params:
         closed_loop=CLOSED_LOOP,
         harmonics=HARMONICS,
     log:
         logfile("closed_loop_validation"),
+    benchmark:
+        bench(\"closed_loop_validation\")
     message:
         "Open loop vs closed loop vs measurement (Table 4.1, run {params.closed_loop[real_run]}, CF spectra)"
     script:
         "scripts/closed_loop_validation.py"
+
+
+rule closed_loop_report:
+    input:
+        code=code_inputs("scripts/closed_loop_report.py"),
+        status=interm("closed_loop/spectra.json"),
+        t42=table("table_4_2_closed_loop"),
+        gains=table("rider_gains"),
+    output:
+        f"{R}/tables/report/closed_loop.csv",
+    log:
+        logfile("closed_loop_report"),
+    benchmark:
+        bench("closed_loop_report")
+    message:
+        "Reproduction report rows of the closed loop (Table 4.2 CF from the spectra, gains)"
+    script:
+        "scripts/closed_loop_report.py"
 
 
 rule closed_loop_figures:
@@ -81,6 +102,8 @@ rule closed_loop_figures:
         CLOSED_LOOP_FIGURES,
     log:
         logfile("closed_loop_figures"),
+    benchmark:
+        bench(\"closed_loop_figures\")
     message:
         "Figures of the closed loop: open vs closed vs measured, gains and eigenvalues, maps"
     script:

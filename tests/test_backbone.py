@@ -73,7 +73,7 @@ def test_config_outside_schema_is_a_clear_error(key, value, message):
     target[key[-1]] = value
     with pytest.raises(config.ConfigError, match=message) as info:
         config.validate(cfg)
-    assert "/".join(key) in str(info.value)
+    assert ".".join(key) in str(info.value)
 
 
 def test_report_check_and_nan_rejected(tmp_path):

@@ -320,7 +320,7 @@ def test_glued_numpy_scalars_are_plain_numbers():
 
 def test_every_glueing_notebook_asks_for_plain_numbers():
     """Each book page that glues calls ``book.setup()`` (the explicit call that replaced the patch
-    on import), before its first glue; the report page (the lead's) is listed at merge."""
+    on import), before its first glue."""
     missing = []
     pages = sorted((paths.ROOT / "notebooks").glob("*.ipynb")) + sorted(paths.BOOK.glob("*.md"))
     for page in pages:
@@ -330,7 +330,7 @@ def test_every_glueing_notebook_asks_for_plain_numbers():
                              if c["cell_type"] == "code")
         else:
             text = page.read_text()
-        if "glue(" in text and page.stem not in ("reproduction_report", "05_periodic_responses"):
+        if "glue(" in text:
             if "book.setup()" not in text or text.index("book.setup()") > text.index("glue("):
                 missing.append(page.name)
     assert not missing, missing

@@ -589,6 +589,7 @@ def test_each_figure_group_depends_on_its_own_drawing_code():
     # time-solution reader and the package __init__ files (39 files per group before)
     shared = set.intersection(*(set(f) for f in code.values()))
     assert shared == {"rules/scripts/figures.py", "src/pedalrepro/__init__.py",
+                      "src/pedalrepro/book.py",
                       "src/pedalrepro/figures/__init__.py", "src/pedalrepro/figures/page.py",
                       "src/pedalrepro/figures/registry.py", "src/pedalrepro/paths.py",
                       "src/pedalrepro/pedalrepro.mplstyle", "src/pedalrepro/timesolution.py"}

@@ -205,7 +205,7 @@ def test_linear_grid_step_above_its_maximum(cfg, step, maximum):
     ("linear.eigen_speed_step_m_s", 1e-9, "1e+10 points"),  # a 74.5 GiB MemoryError in a job
     ("linear.ps_speed_step_m_s", 1e-4, "2.6e+06 points"),  # 100001 speeds x 26 cadences
     ("linear.time_omega_step_rad_s", 1e-5, "7.54e+06 points"),
-    ("periodic.fine_omega_step_rad_s", 1e-6, "6.409e+08 points"),
+    ("periodic.fine_omega_step_rad_s", 1e-6, "7.54e+07 points"),
     ("linear.eigen_speed_step_m_s", 5e-324, "inf points"),   # max / step overflows
 ])
 def test_grid_point_cap_gives_the_count(cfg, key, value, count):

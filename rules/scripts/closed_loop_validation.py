@@ -1,5 +1,6 @@
 """Snakemake script: open loop vs closed loop vs measurement (closed_loop_validation.csv), Table
-4.2 with its closed-loop counterpart, the steer-stiffness sweep and the report part."""
+4.2 with its closed-loop counterpart and the steer-stiffness sweep (report rows: rule
+closed_loop_report)."""
 
 import json
 import sys
@@ -7,7 +8,7 @@ import sys
 import numpy as np
 import pandas as pd
 
-from pedalrepro import linear, params, report, response
+from pedalrepro import linear, params, response
 from pedalrepro.rider import closed_loop, comparison
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
@@ -57,10 +58,4 @@ for v_kmh in c["stiffness_speeds_kmh"]:
                    f"{key}_open_roll_rad": la.roll_rad[0, 0], f"{key}_open_steer_rad":
                    la.steer_rad[0, 0], f"{key}_cadence_rpm": rpm, f"{key}_stable": stable[0]})
 np.savez(snakemake.output.time, **series)
-gains = pd.read_csv(snakemake.input.gains)
-bench = gains[(gains.model == "benchmark") & np.isclose(gains.speed_m_s, 5.0)
-              & gains.source.str.startswith("rules")]
-rows = comparison.report_rows(t42, bench[["kDelta", "kPhiDot", "kPhi", "kPsi", "kY"]]
-                              .to_numpy()[0], status.get("reason", ""))
-report.write_rows(rows, snakemake.output.report)
 print(val.to_string(), t42.to_string(), sep="\n", file=sys.stderr)

@@ -18,6 +18,7 @@ from __future__ import annotations
 # them as figures.show(...) (importing this package changes nothing in IPython: a notebook asks
 # with book.setup()).
 from ..book import (  # noqa: E402, F401
+    BEYOND_THESIS,
     BOOK_FIGURES_HREF,
     BOOK_TABLES_HREF,
     figure_html,

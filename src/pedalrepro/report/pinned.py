@@ -56,14 +56,16 @@ def profile_of(report_path: str | Path) -> str:
 
     results = Path(report_path).resolve().parents[1]
     used = {k: v for k, v in config.results_config(results).items() if k != "results_dir"}
+    diffs = {}
     for profile, extra in (("thesis", ()), ("quick", (paths.CONFIG / "quick.yaml",))):
         want = {k: v for k, v in config.load(None, *extra).items() if k != "results_dir"}
         if used == want:
             return profile
-    want = {k: v for k, v in config.load().items() if k != "results_dir"}
-    diff = sorted(k for k in set(used) | set(want) if used.get(k) != want.get(k))
+        diffs[profile] = sorted(k for k in set(used) | set(want) if used.get(k) != want.get(k))
+    nearest = min(diffs, key=lambda p: len(diffs[p]))
     raise ValueError(f"{report_path}: built with a configuration that is neither the thesis nor "
-                     f"the quick profile (keys differing from config/config.yaml: {diff[:6]})")
+                     f"the quick profile (keys differing from the {nearest} profile: "
+                     f"{diffs[nearest][:6]})")
 
 
 def validate_report(rep: pd.DataFrame, where: str) -> None:
