@@ -62,8 +62,8 @@ LATERAL = (0, 2, 3, 4)
 #: integration (absolute tolerances rtol x amplitude ~1e-17), and its non-linear terms are
 #: O(scale^2) ~ 1e-12 relative. Smaller orbits are not: at 1e-300 the states no longer control
 #: the step size, the variational equations go unresolved and HR at 5 m/s came out unstable
-#: (|mu| 16.3; issue 22). Floquet multipliers are those of that orbit, equal to the upright
-#: motion's exp(lambda T) of the linearisation to ~1e-8 (tests/test_periodic_inputs.py).
+#: (largest multiplier modulus 16.3). Floquet multipliers are those of that orbit, equal to the
+#: upright motion's exp(lambda T) of the linearisation to ~1e-8 (tests/test_periodic_inputs.py).
 LINEAR_TORQUE_SCALE = 1e-6
 
 

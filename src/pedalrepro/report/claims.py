@@ -7,22 +7,26 @@ claim and the pipeline's value into a report :class:`~pedalrepro.report.rows.Row
 place where a status is decided (:mod:`pedalrepro.report.statuses` defines the five).
 
 Check kinds (``check: {kind: ...}``), ``p`` the published value, ``x`` the reproduced one; each
-is one :class:`Kind` in :data:`KINDS`:
+is one :class:`Kind` in :data:`KINDS`. Precise kinds (a pass is ``reproduced``):
 
-``abs``                 ``|x - p| <= tol``; precise if ``tol <= 10 % |p|``
-``relative``            ``|x - p| <= tol |p|``; precise if ``tol <= 10 %``
-``rounds_to``           ``|x - p| <= 0.5 10^-decimals`` (printed precision); precise
-``half_step``           ``|x - p| <= step / 2 + 1e-9`` (caller's grid); precise if ``<= 10 % |p|``
-``max_difference``      ``x <= limit``, ``x`` the largest difference of a set of reproduced numbers
-                        from the published ones (``describe`` says how it is measured); precise if
-                        ``limit <= 10 %``
-``range``               ``lo <= x <= hi`` (``p = [lo, hi]``, or ``p`` alone: ``0 <= x <= p``)
-``order_of_magnitude``  ``p / factor <= x <= p factor`` (``factor`` default 10)
-``below`` / ``above``   ``x < limit`` / ``x > limit`` (``limit`` default ``p``)
-``at_most``             ``x <= limit``
-``equals``              ``x == p`` (a number: precise; text: a statement in words)
-``holds``               ``x`` is a boolean worked out by the caller (a statement in words)
-``not_reproducible``    always ``not reproducible here`` (the thesis's means are not available)
+- ``rounds_to``: ``|x - p| <= 0.5 10^-decimals`` (the printed precision);
+- ``abs``: ``|x - p| <= tol``, precise if ``tol <= 10 % |p|``;
+- ``relative``: ``|x - p| <= tol |p|``, precise if ``tol <= 10 %``;
+- ``half_step``: ``|x - p| <= step / 2 + 1e-9`` (the caller's grid), precise if ``<= 10 % |p|``;
+- ``max_difference``: ``x <= limit``, ``x`` the largest difference of a set of reproduced numbers
+  from the published ones (``describe`` says how it is measured), precise if ``limit <= 10 %``;
+- ``equals``: ``x == p``, precise for a number (text is a statement in words).
+
+Loose kinds (a pass is only ``consistent``):
+
+- ``range``: ``lo <= x <= hi`` (``p = [lo, hi]``, or ``p`` alone: ``0 <= x <= p``);
+- ``order_of_magnitude``: ``p / factor <= x <= p factor`` (``factor`` default 10);
+- ``below`` / ``above``: ``x < limit`` / ``x > limit`` (``limit`` default ``p``);
+- ``at_most``: ``x <= limit``;
+- ``holds``: ``x`` is a boolean worked out by the caller (a statement in words).
+
+``not_reproducible`` always gives ``not reproducible here`` (the thesis's means are not
+available).
 
 A passing precise check is ``reproduced``, a passing loose one ``consistent``; a claim with
 ``calibrated: <reason>`` (a target of the project's own fit) is ``calibrated`` when it passes.
