@@ -3,7 +3,8 @@
 One row per measured point and quantity (:data:`VALIDATION_COLUMNS`): the measured cadence
 amplitude, the open-loop model (the particular solution of the Appendix B model, Eq 3.10-3.15,
 as Table 4.1) and the closed-loop model (:mod:`pedalrepro.rider.closed_loop`) at the same speed
-and cadence, and their relative differences ``RD = |measured - model| / measured * 100`` (Table 4.1 caption).
+and cadence, and their relative differences ``RD = |measured - model| / measured * 100``
+(Table 4.1 caption).
 
 Measured sources (:func:`measured_points`):
 
