@@ -41,7 +41,7 @@ rule closed_loop_spectra:
     log:
         logfile("closed_loop_spectra"),
     benchmark:
-        bench(\"closed_loop_spectra\")
+        bench("closed_loop_spectra")
     message:
         "Measured closed-loop spectra of CF (Moore's MotionCapture figures, sha256-checked)"
     script:
@@ -66,7 +66,7 @@ rule closed_loop_validation:
     log:
         logfile("closed_loop_validation"),
     benchmark:
-        bench(\"closed_loop_validation\")
+        bench("closed_loop_validation")
     message:
         "Open loop vs closed loop vs measurement (Table 4.1, run {params.closed_loop[real_run]}, CF spectra)"
     script:
@@ -103,7 +103,7 @@ rule closed_loop_figures:
     log:
         logfile("closed_loop_figures"),
     benchmark:
-        bench(\"closed_loop_figures\")
+        bench("closed_loop_figures")
     message:
         "Figures of the closed loop: open vs closed vs measured, gains and eigenvalues, maps"
     script:
