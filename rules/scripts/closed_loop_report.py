@@ -19,4 +19,4 @@ bench = gains[(gains.model == "benchmark") & np.isclose(gains.speed_m_s, 5.0)
               & gains.source.str.startswith("rules")]
 rows = report_rows.report_rows(t42, bench[["kDelta", "kPhiDot", "kPhi", "kPsi", "kY"]]
                                .to_numpy()[0], status.get("reason", ""))
-print(report.write_rows(rows, snakemake.output.report).to_string(), file=sys.stderr)
+print(report.write_rows(rows, snakemake.output[0]).to_string(), file=sys.stderr)
