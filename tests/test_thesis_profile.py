@@ -51,7 +51,8 @@ def thesis_run(tmp_path_factory):
     env.pop("PEDALREPRO_RESULTS", None)
     if not (Path(env.get("PEDALREPRO_DATA_DIR", "")) / "3045_X.xlsx").is_file():
         env["PEDALREPRO_DATA_DIR"] = str(copy_real_subset(tmp_path_factory.mktemp("data")))
-    cmd = [sys.executable, "-m", "snakemake", "-j2", "--config", f"results_dir={results}"]
+    cmd = [sys.executable, "-m", "snakemake", "-j2", "--rerun-incomplete", "--config",
+           f"results_dir={results}"]
     start = time.perf_counter()
     proc = subprocess.run(cmd, cwd=paths.ROOT, env=env, capture_output=True, text=True)
     elapsed = time.perf_counter() - start
