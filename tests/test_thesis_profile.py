@@ -34,6 +34,19 @@ def _template(template: str) -> re.Pattern:
     return re.compile(rx + r"\Z")
 
 
+def _literal_length(template: str) -> int:
+    return len(re.sub(r"\{[^}]*\}", "", template))
+
+
+def _most_specific(hits: list) -> list:
+    """The matching templates with the most literal text ('table_4_2.spectra.{key}.CF' before
+    'table_4_2.{key}.{system}', which matches the same id)."""
+    if not hits:
+        return hits
+    best = max(_literal_length(t) for t, _ in hits)
+    return [(t, m) for t, m in hits if _literal_length(t) == best]
+
+
 def _first_number(text: str) -> float | None:
     m = re.search(r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?", text)
     return float(m.group()) if m else None
@@ -92,7 +105,7 @@ def test_thesis_rows_quote_the_published_values(thesis_run):
     templates = {t: _template(t) for t in report.claims()}
     compared = 0
     for row in rep.itertuples():
-        hits = [(t, m) for t, rx in templates.items() if (m := rx.match(row.id))]
+        hits = _most_specific([(t, m) for t, rx in templates.items() if (m := rx.match(row.id))])
         assert len(hits) == 1, (row.id, [t for t, _ in hits])
         c = report.claim(hits[0][0])
         if c.value is None or c.published_text is not None:
