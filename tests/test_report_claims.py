@@ -129,24 +129,21 @@ def test_bad_values_and_claims_are_named():
         report.published_value("thesis_values.yaml:scalar_claims/nope/value_percent")
 
 
-def test_claims_file_is_validated(tmp_path):
-    bad = tmp_path / "claims.yaml"
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: w, check: {kind: roughly}, "
-                   "published_text: x}\n")
-    with pytest.raises(ValueError, match="'roughly'"):
-        report.claims(bad)
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: w, check: {kind: abs}, "
-                   "value: 'meijaard2007.yaml:weave_speed_m_s'}\n")
-    with pytest.raises(ValueError, match="needs \\['tol'\\]"):
-        report.claims(bad)
+@pytest.mark.parametrize(("entry", "message"), [
+    ("{id: a, section: '1', item: a, wording: w, check: {kind: roughly}, published_text: x}",
+     "'roughly'"),
+    ("{id: a, section: '1', item: a, wording: w, check: {kind: abs}, "
+     "value: 'meijaard2007.yaml:weave_speed_m_s'}", "needs \\['tol'\\]"),
     # every claim quotes the thesis wording its check comes from
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, check: {kind: equals}, "
-                   "published_text: x}\n")
-    with pytest.raises(ValueError, match="missing \\['wording'\\]"):
-        report.claims(bad)
-    bad.write_text("claims:\n- {id: a, section: '1', item: a, wording: ' ', "
-                   "check: {kind: equals}, published_text: x}\n")
-    with pytest.raises(ValueError, match="wording"):
+    ("{id: a, section: '1', item: a, check: {kind: equals}, published_text: x}",
+     "missing \\['wording'\\]"),
+    ("{id: a, section: '1', item: a, wording: ' ', check: {kind: equals}, published_text: x}",
+     "wording"),
+])
+def test_claims_file_is_validated(tmp_path, entry, message):
+    bad = tmp_path / "claims.yaml"
+    bad.write_text(f"claims:\n- {entry}\n")
+    with pytest.raises(ValueError, match=message):
         report.claims(bad)
 
 
