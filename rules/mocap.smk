@@ -90,6 +90,8 @@ rule validation_report:
         report=f"{R}/tables/report/mocap.csv",
     log:
         logfile("validation_report"),
+    benchmark:
+        bench("validation_report")
     message:
         "Report rows of Tables 4.1 and 4.2 and of the real run (claims.yaml)"
     script:

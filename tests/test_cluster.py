@@ -50,8 +50,8 @@ PARTITION = "main"  # the profile's default slurm_partition (profiles/slurm/conf
 
 # The subset of config/quick.yaml: tables whose jobs are the linear sweeps (SLURM) plus one local
 # rule. Expected SLURM jobs: linear_eigen, linear_ps, linear_time_la, linear_time_ln, linear_rd;
-# local: linear_table_4_1.
-TARGET_TABLES = ["eigen_summary", "rd_summary", "table_4_1_model"]
+# local: linear_table_4_1 (which also writes the moved-inputs table of pedalrepro.sensitivity).
+TARGET_TABLES = ["eigen_summary", "rd_summary", "table_4_1_model", "table_4_1_model_moved_inputs"]
 SLURM_RULES = {"linear_eigen": 1, "linear_ps": 1, "linear_time_la": 1, "linear_time_ln": 1,
                "linear_rd": 1}
 LOCAL_RULES = {"linear_table_4_1"}
