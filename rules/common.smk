@@ -14,6 +14,11 @@ pconfig.validate(config, Path(workflow.basedir) / "config" / "schema.yaml")
 # a system folder, not inside or on a tracked source of the repository):
 # each failure names its key (pedalrepro.config.check).
 pconfig.check(config)
+# One key order for every params dict (Snakemake compares params by repr): the same values in
+# another order, e.g. from another merge of the same files, must not rerun a rule.
+_canonical = pconfig.canonical(config)
+config.clear()
+config.update(_canonical)
 
 # Every script, notebook and the book build read the results folder from this variable
 # (pedalrepro.paths.results()).

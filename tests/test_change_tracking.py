@@ -35,13 +35,6 @@ SMK_TEXT = "\n".join(p.read_text() for p in sorted((paths.ROOT / "rules").glob("
 NOTEBOOKS = sorted(paths.NOTEBOOKS.glob("*.ipynb"))
 
 
-#: The dry-run planning tests: they fail on this machine after the per-figure-group change
-#: tracking was merged (an open defect of stop 13, named in its closing note), so they run and
-#: report as xfail until it is found, instead of hiding as skips or turning CI red.
-OPEN_DEFECT = pytest.mark.xfail(reason="dry-run planning plans rules after the per-figure-group "
-                                "change tracking: open defect (stop 13)", strict=False)
-
-
 # --------------------------------------------------------------------------------------------
 # The import closure
 # --------------------------------------------------------------------------------------------
@@ -355,7 +348,6 @@ def baseline(quick_workflow):
     return quick_workflow.results, cfg
 
 
-@OPEN_DEFECT
 def test_unchanged_config_plans_nothing(baseline, tmp_path):
     results, cfg = baseline
     assert planned(results, cfg, tmp_path) == {}
@@ -403,7 +395,6 @@ CHANGES = [
 ]
 
 
-@OPEN_DEFECT
 @pytest.mark.parametrize("family, key, value, params_changed, untouched", CHANGES,
                          ids=[c[1] for c in CHANGES])
 def test_config_change_plans_exactly_its_rules(baseline, tmp_path, family, key, value,
@@ -476,7 +467,6 @@ def _rules(script_names):
     return set().union(*(RULES_OF.get(s, {s.removesuffix(".py")}) for s in script_names))
 
 
-@OPEN_DEFECT
 @pytest.mark.parametrize("rel, expected", [
     # hand-checked: BicycleParameters' files are read by nonlinear/bicycle_data.py, which the
     # calibration, the linearisation, the NT/NP sweeps and the periodic orbits import, and by
@@ -490,15 +480,19 @@ def _rules(script_names):
      {"nonlinear_codegen_variant", "nonlinear_calibration", "nonlinear_linearisation",
       "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_map_subgrid",
       "periodic_branch", "periodic_tables"}),
-    # the figure style: every figure rule and the book (notebooks draw figures)
+    # the figure style: every figure rule, the closed-loop and own-bicycle rules (they draw
+    # their figures too) and the book (notebooks draw figures)
     ("src/pedalrepro/pedalrepro.mplstyle",
      {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
       "figures_linear_spectra", "figures_nonlinear", "figures_validation", "figures_periodic",
-      "book"}),
+      "closed_loop_figures", "own_bicycle_resonance", "book"}),
     ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
+    # the run list: the mocap rules, Table 4.1's model column, the figure-data rule of chapter 3
+    # (pedalrepro.figdata imports pedalrepro.validation for its Figs 4.2-4.10 part) and the
+    # spectra rule (pedalrepro.mocap.fetch imports the run list's reader)
     ("data/parameters/validation_runs.yaml",
      {"linear_table_4_1", "mocap_runs", "mocap_extract", "validation_tables",
-      "validation_report"}),
+      "validation_report", "linear_figure_data", "closed_loop_spectra"}),
 ])
 def test_touched_file_reruns_exactly_its_users(baseline, tmp_path, rel, expected):
     results, cfg = baseline
@@ -513,7 +507,6 @@ NAMED_INPUT = {"data/published/meijaard2007.yaml": {"linear_report", "nonlinear_
                                                     "nonlinear_report"}}
 
 
-@OPEN_DEFECT
 @pytest.mark.parametrize("rel", ["src/pedalrepro/gears.py", "src/pedalrepro/spectral.py",
                                  "data/parameters/stratos.yaml",
                                  "data/published/meijaard2007.yaml"])
@@ -541,7 +534,6 @@ def figure_group_code(group: str) -> list[str]:
                                                  root=paths.ROOT)))
 
 
-@OPEN_DEFECT
 def test_every_file_a_rule_reads_is_its_input(quick_workflow):
     """The end-to-end run recorded, per process, the data files and package resources it opened
     and the pedalrepro modules it loaded (PEDALREPRO_TRACE, tests/trace/sitecustomize.py). Each
@@ -566,7 +558,14 @@ def test_every_file_a_rule_reads_is_its_input(quick_workflow):
             inputs = set(dependencies.code_inputs(scripts[script], root=paths.ROOT))
         elif "ipykernel" in rec["argv0"]:
             script = "notebooks"
-            inputs = set(dependencies.code_inputs(*NOTEBOOKS, root=paths.ROOT))
+            # figures.draw(id) imports the figure's drawing module by the registry's name for
+            # it (no import statement to follow): the notebooks' code is their closure plus the
+            # drawing modules' (the book rule has every package module as input anyway, for the
+            # API page)
+            drawing = [src for g in FIGURE_REGISTRY.groups()
+                       for src in FIGURE_REGISTRY.code_sources(g)]
+            inputs = set(dependencies.code_inputs(*NOTEBOOKS, *(paths.ROOT / d for d in drawing),
+                                                  root=paths.ROOT))
         else:
             continue  # snakemake itself (it imports pedalrepro to parse the rules)
         seen.add(script)
@@ -619,7 +618,6 @@ def test_claims_reach_report_rules_only():
             assert not rel.startswith("tables/report/") and "reproduction_report" not in rel, fid
 
 
-@OPEN_DEFECT
 def test_editing_claims_plans_no_figure_rule(baseline, tmp_path):
     results, cfg = baseline
     jobs = _touched(results, cfg, tmp_path, CLAIMS)
@@ -629,7 +627,6 @@ def test_editing_claims_plans_no_figure_rule(baseline, tmp_path):
     assert {"validation_report", "reproduction_report", "book"} <= set(jobs)
 
 
-@OPEN_DEFECT
 def test_editing_section2_figures_plans_only_the_section2_figures(baseline, tmp_path):
     results, cfg = baseline
     jobs = _touched(results, cfg, tmp_path, SECTION2_FIGURES)

@@ -324,6 +324,21 @@ def merge(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def canonical(value: Any) -> Any:
+    """``value`` with every mapping's keys sorted, recursively (lists keep their order).
+
+    Snakemake compares a rule's ``params`` by their ``repr``, so a dictionary of the same values
+    in another key order (``--configfile`` merges put the overriding file's keys first; another
+    tool may write the merged YAML sorted) would plan the rule again as "params have changed".
+    The Snakefile puts the configuration in this form once, after validation, so a rule reruns
+    exactly when a value it reads changes (tests/test_change_tracking.py)."""
+    if isinstance(value, Mapping):
+        return {k: canonical(value[k]) for k in sorted(value)}
+    if isinstance(value, list):
+        return [canonical(v) for v in value]
+    return value
+
+
 def write(config: Mapping[str, Any], path: str | Path, root: str | Path = paths.ROOT) -> Path:
     """Write the configuration in effect as YAML (keys in the order given).
 
