@@ -320,7 +320,8 @@ def test_glued_numpy_scalars_are_plain_numbers():
 
 def test_every_glueing_notebook_asks_for_plain_numbers():
     """Each book page that glues calls ``book.setup()`` (the explicit call that replaced the patch
-    on import), before its first glue."""
+    on import; with ``figure_status=`` on the pages showing thesis figures), before its first
+    glue."""
     missing = []
     pages = sorted((paths.ROOT / "notebooks").glob("*.ipynb")) + sorted(paths.BOOK.glob("*.md"))
     for page in pages:
@@ -331,7 +332,8 @@ def test_every_glueing_notebook_asks_for_plain_numbers():
         else:
             text = page.read_text()
         if "glue(" in text:
-            if "book.setup()" not in text or text.index("book.setup()") > text.index("glue("):
+            call = re.search(r"book\.setup\((figure_status=[^\n]*)?\)", text)
+            if call is None or call.start() > text.index("glue("):
                 missing.append(page.name)
     assert not missing, missing
 
@@ -440,3 +442,121 @@ def test_the_built_book_shows_no_placeholder(quick_workflow):
         p.read_text(encoding="utf-8"), p.relative_to(root).as_posix())]
     assert not problems, "\n".join(problems)
     print(f"\n{len(pages)} pages read cleanly")
+
+
+# --------------------------------------------------------------------------------------------
+# Each figure shows its report status (issue 25, part 6)
+# --------------------------------------------------------------------------------------------
+
+def _report_rows(*rows):
+    import pandas as pd
+
+    from pedalrepro import report
+
+    return pd.DataFrame([dict(zip(report.COLUMNS, r, strict=True)) for r in rows], dtype=str)
+
+
+def test_every_claims_figures_resolve_to_registered_figures():
+    """Every claim's ``figures`` entries name registered figures or thesis tables once filled
+    with a row's fields: each pinned row resolves, and the selector of the RD claims finds the
+    one RD map of the row's model and coordinate (Figs 3.32, 3.33, H.1-H.6)."""
+    from pedalrepro import report
+    from pedalrepro.figures import registry
+    from pedalrepro.report import figure_rows
+
+    for rid in report.expected_status()["id"]:
+        figure_rows.figures_of(rid)  # raises on an unknown id
+    rd = {(registry.spec(f).kwargs["model"], registry.spec(f).kwargs["coord"]): f
+          for f in registry.ids() if registry.spec(f).function == "linear.fig_rd_points"}
+    assert len(rd) == 8 and rd[("HR", "roll")] == "fig_3_32" and rd[("CF", "roll")] == "fig_3_33"
+    for (model, coord), fid in rd.items():
+        assert figure_rows.figures_of(f"rd_2b.{model}.{coord}") == [fid]
+    assert set(figure_rows.figures_of("rd_1a")) == set(rd.values())
+    # the most specific template: the spectra rows are Table 4.2's CF column, not Fig 4.11's
+    assert figure_rows.figures_of("table_4_2.spectra.roll_rd_median_percent.CF") == ["table_4_2"]
+    assert figure_rows.figures_of("table_4_2.roll_rd_median_percent.CF") == ["table_4_2",
+                                                                             "fig_4_11"]
+    with pytest.raises(ValueError, match="matches no claim"):
+        figure_rows.figures_of("no_such_claim.HS")
+
+
+def test_a_bad_figures_entry_is_refused(tmp_path):
+    from pedalrepro.report import claims_module
+
+    base = ("claims:\n- id: x\n  section: '1'\n  item: x\n  wording: 'quoted'\n"
+            "  published_text: '1'\n  check: {kind: holds, describe: x}\n")
+    bad = tmp_path / "claims.yaml"
+    bad.write_text(base + "  figures: fig_3_9\n")
+    with pytest.raises(ValueError, match="'figures' must be a list"):
+        claims_module.claims(bad)
+    bad2 = tmp_path / "claims2.yaml"
+    bad2.write_text(base + "  figures: [{model: HS}]\n")
+    with pytest.raises(ValueError, match="'figures' must be a list"):
+        claims_module.claims(bad2)
+
+
+def test_a_figure_caption_ends_with_its_report_status(monkeypatch):
+    """With ``book.setup(figure_status=...)`` a thesis figure's caption ends with its rows'
+    counts per status, each linking its first row on the report page; a thesis figure no row
+    checks says so; a figure beyond the thesis without rows says nothing."""
+    from pedalrepro import book, report
+    from pedalrepro.report import figure_rows
+
+    rows = _report_rows(
+        ("hs_weave_frequency", "HS weave", "3.2.1", "1", "1", "abs 0.1", "reproduced", ""),
+        ("cf_weave_stable_speed", "CF", "3.2.1", "1", "2", "abs 0.1", "differs", "why"),
+        ("self_stable_range_exists", "3", "3.2.1", "x", "x", "", "reproduced", ""))
+    status = figure_rows.caption_status(rows)
+    line = status("fig_3_9")
+    assert 'class="pedalrepro-status"' in line and "report rows (3)" in line
+    assert f'href="reproduction_report.html#{report.anchor("hs_weave_frequency")}">2 ' in line
+    assert f'#{report.anchor("cf_weave_stable_speed")}">1 ' in line and "differs" in line
+    assert figure_rows.BY_EYE in status("fig_3_10")
+    assert status("periodic_continuation") == ""
+    try:
+        book.setup(figure_status=status)
+        html = book.figure_html("fig_3_9", src="figures/fig_3_9.png")
+    finally:
+        book.setup()
+    assert html.index("report rows (3)") > html.index("<figcaption>")
+    assert "pedalrepro-status" not in book.figure_html("fig_3_9", src="figures/fig_3_9.png")
+
+
+@pytest.mark.workflow
+def test_every_thesis_figure_in_the_built_book_shows_its_report_status(quick_workflow):
+    """Each ``<figure data-figure-id>`` of a thesis figure or table on the built pages carries a
+    status line, and the counts it gives are those of the build's report (Fig 3.9 and Table D.1
+    checked against the report CSV)."""
+    import re
+
+    from pedalrepro.report import figure_rows
+
+    assert quick_workflow.returncode == 0, quick_workflow.log[-3000:]
+    root = quick_workflow.results / "book" / "_build" / "html"
+    rep = pd_read_report(quick_workflow.results)
+    table = figure_rows.by_figure(rep)
+    shown = {}
+    for page in sorted((root / "notebooks").glob("*.html")):
+        text = page.read_text(encoding="utf-8")
+        for m in re.finditer(r'<figure class="pedalrepro-figure" id="[^"]*" '
+                             r'data-figure-id="([^"]+)">(.*?)</figure>', text, re.S):
+            shown.setdefault(m.group(1), m.group(2))
+    thesis = {f for f in shown if book_label(f) != "beyond"}
+    assert len(thesis) >= 60, sorted(shown)
+    missing = sorted(f for f in thesis if "pedalrepro-status" not in shown[f])
+    assert not missing, f"figures without a report status: {missing}"
+    for fid in ("fig_3_9", "table_d_1"):
+        assert f"report rows ({len(table[fid])})" in shown[fid], shown[fid][-600:]
+
+
+def pd_read_report(results):
+    import pandas as pd
+
+    return pd.read_csv(results / "tables" / "reproduction_report.csv", dtype=str,
+                       keep_default_na=False)
+
+
+def book_label(fid):
+    from pedalrepro import book
+
+    return "beyond" if book.thesis_label(fid) == book.BEYOND_THESIS else "thesis"

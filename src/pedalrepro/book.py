@@ -18,7 +18,7 @@ from __future__ import annotations
 import html as _html
 import re
 import string
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from . import paths
@@ -138,6 +138,8 @@ def figure_html(figure_id: str, png: bytes | None = None, *, src: str | None = N
                     f'href="{BOOK_TABLES_HREF}{figure_id}.csv">CSV</a></span>')
     else:
         raise ValueError("figure_html needs png=, src= or table_html=")
+    if _FIGURE_STATUS is not None:
+        cap += _FIGURE_STATUS(figure_id)
     return (f'<figure class="pedalrepro-figure" id="{figure_anchor(figure_id)}" '
             f'data-figure-id="{figure_id}">{body}<figcaption>{cap}</figcaption></figure>')
 
@@ -392,11 +394,23 @@ def plain_numbers_in_notebooks() -> bool:
     return True
 
 
-def setup() -> bool:
+#: Set by :func:`setup`: figure id -> the report-status HTML its caption ends with.
+_FIGURE_STATUS: Callable[[str], str] | None = None
+
+
+def setup(figure_status: Callable[[str], str] | None = None) -> bool:
     """What a book notebook asks for at its top: numpy scalars glued as plain numbers
     (:func:`plain_numbers_in_notebooks`) and pandas showing every row and column (no "...").
+
+    ``figure_status``: figure id -> HTML (``pedalrepro.report.figure_rows.caption_status()``):
+    every thesis figure or table :func:`figure_html` shows from then on ends its caption with the
+    status of the report rows checking it. This module does not import the report itself, so
+    that the figure rules, which import it, do not depend on the claims.
     Returns whether a kernel was found."""
     import pandas as pd
+
+    global _FIGURE_STATUS
+    _FIGURE_STATUS = figure_status
 
     pd.set_option("display.max_columns", None)
     pd.set_option("display.max_colwidth", None)

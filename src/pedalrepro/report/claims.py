@@ -202,7 +202,7 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
 #: Check kinds and the parameter each needs.
 CHECK_KINDS: dict[str, tuple[str, ...]] = {k.name: k.needs for k in KINDS.values()}
 _CLAIM_KEYS = {"id", "section", "item", "value", "published_text", "check", "fmt", "unit",
-               "wording", "calibrated", "chosen_input"}
+               "wording", "calibrated", "chosen_input", "figures"}
 
 
 @dataclass(frozen=True)
@@ -216,7 +216,12 @@ class Claim:
     a list of mappings, by their ``id``). ``wording`` quotes the thesis text the check's kind and
     tolerance come from; ``calibrated`` gives the reason when the claim is a target of the
     project's own fit; ``chosen_input`` names an input chosen with this claim in view (the report's
-    sensitivity rows move it).
+    sensitivity rows move it). ``figures`` names the thesis figures and tables the claim is read
+    from or checks, each a figure-registry id template (``"fig_3_9"``, ``"table_4_1"``) or a
+    registry selector ``{function: <drawing function>, <keyword>: <template>, ...}`` (the figures
+    drawn by that function with those keyword arguments, e.g. the RD map of ``{model}``,
+    ``{coord}``): each figure in the book shows the status of its rows
+    (:mod:`~pedalrepro.report.figure_rows`).
     """
 
     id: str
@@ -230,6 +235,7 @@ class Claim:
     wording: str = ""
     calibrated: str | None = None
     chosen_input: str | None = None
+    figures: tuple[Any, ...] = ()
     source: str = field(default="", compare=False)
 
     @property
@@ -265,6 +271,13 @@ def _validated(entry: Any, i: int, path: str, seen: Mapping[str, Claim]) -> Clai
         raise ValueError(f"{where}: 'wording' must quote the thesis text of the claim")
     if entry["id"] in seen:
         raise ValueError(f"{where}: duplicate id")
+    figures = entry.get("figures", [])
+    if not isinstance(figures, list) or not all(
+            isinstance(f, str) and f.strip()
+            or isinstance(f, dict) and isinstance(f.get("function"), str) for f in figures):
+        raise ValueError(f"{where}: 'figures' must be a list of figure ids or of mappings with "
+                         f"a 'function' (a registry selector), got {figures!r}")
+    entry = {**entry, "figures": tuple(figures)}
     return Claim(**entry, source=path)
 
 
