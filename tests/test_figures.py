@@ -254,25 +254,26 @@ def test_overlapping_colour_bars_are_found():
     plt.close(fig)
 
 
-@pytest.mark.workflow
-def test_no_drawn_figure_has_overlapping_colour_bars(quick_workflow):
-    """Every registered figure, drawn from the quick build's results, and the periodic maps:
-    no colour bar over another colour bar or a plot (bounding boxes of the drawn axes)."""
-    import os
-
-    from pedalrepro.figures import page
-
-    assert quick_workflow.returncode == 0
-    os.environ["PEDALREPRO_RESULTS"] = str(quick_workflow.results)
-    try:
-        problems, n_bars = [], 0
-        for fid in registry.FIGURES:
-            with figures.style():
-                fig = registry.draw(fid)
-                n_bars += sum(getattr(a, "_colorbar", None) is not None for a in fig.axes)
-                problems += [f"{fid}: {p}" for p in page.overlapping_colorbars(fig)]
-            plt.close(fig)
-    finally:
-        del os.environ["PEDALREPRO_RESULTS"]
-    assert n_bars >= 20  # the maps of chapters 3 and 4 have colour bars
-    assert not problems, "\n".join(problems)
+def test_save_refuses_overlapping_colour_bars(tmp_path):
+    """figures.save checks every figure a rule saves (so every build checks every figure): two
+    colour bars on one spot are refused, naming both, and nothing is written; the figure with
+    its colour bars side by side is saved."""
+    z = np.arange(12.0).reshape(3, 4)
+    with figures.style():
+        fig, axes = plt.subplots(1, 2, figsize=(6.5, 3), layout="constrained")
+        for ax in axes:
+            ax.pcolormesh(z)
+        fig.colorbar(axes[0].collections[0], ax=axes[0], label="amplitude (rad)")
+        fig.colorbar(axes[1].collections[0], ax=axes[1], label="RD (%)")
+        assert figures.save(fig, tmp_path / "ok.png").exists()
+        fig, axes = plt.subplots(1, 2, figsize=(6.5, 3))
+        for ax in axes:
+            ax.pcolormesh(z)
+        fig.colorbar(axes[0].collections[0], cax=fig.add_axes([0.90, 0.1, 0.03, 0.8]),
+                     label="amplitude (rad)")
+        fig.colorbar(axes[1].collections[0], cax=fig.add_axes([0.905, 0.1, 0.03, 0.8]),
+                     label="RD (%)")
+        with pytest.raises(ValueError, match=r"bad.png: colour bar 'amplitude \(rad\)' overlaps "
+                                             r"colour bar 'RD \(%\)'"):
+            figures.save(fig, tmp_path / "bad.png")
+    assert not (tmp_path / "bad.png").exists() and not (tmp_path / "bad.pdf").exists()

@@ -705,6 +705,11 @@ def run(data_dir: str | Path, bicycle: str, rider: str, out_dir: str | Path,
                lin["normal_cycling_cadence_rpm"], lin["gear_ratios"])
     png = Path(png_dir or out) / f"{bicycle}_{rider}_resonance.png"
     png.parent.mkdir(parents=True, exist_ok=True)
+    from .figures.page import overlapping_colorbars
+
+    overlaps = overlapping_colorbars(fig)  # as pedalrepro.figures.save checks every figure
+    if overlaps:
+        raise ValueError(f"{png.name}: " + "; ".join(overlaps))
     fig.savefig(png, dpi=120)
     paths["png"] = png
     return paths

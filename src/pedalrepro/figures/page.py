@@ -54,11 +54,13 @@ def overlapping_colorbars(fig: matplotlib.figure.Figure) -> list[str]:
     the periodic maps were drawn on top of each other): the drawn bounding boxes (display
     units, after a draw) of each colour bar axes, its ticks and label included, against those of
     every other colour bar and the frame of every other axes. Returns one line per overlap
-    (empty: none)."""
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
+    (empty: none; a figure without colour bars is not drawn)."""
     axes = [ax for ax in fig.axes if ax.get_visible()]
     bars = [ax for ax in axes if getattr(ax, "_colorbar", None) is not None]
+    if not bars:
+        return []
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
 
     def name(ax) -> str:
         label = ax.get_ylabel() or ax.get_xlabel() or ax.get_title() or "unlabelled"
@@ -84,13 +86,20 @@ def overlapping_colorbars(fig: matplotlib.figure.Figure) -> list[str]:
 def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     """Save ``fig`` to ``path`` (PNG) and its vector copy beside it (same stem, ``.pdf``), in
     the project's style, creating the folder; close the figure. Checks :func:`check_legible`
-    first, and that the PNG (bbox tight) is not wider than the content width plus 5 %."""
+    first, then that no colour bar is drawn over another or over a plot
+    (:func:`overlapping_colorbars`; so every figure a rule saves is checked, in every build), and
+    that the PNG (bbox tight) is not wider than the content width plus 5 %."""
     import struct
 
     import matplotlib.pyplot as plt
 
     path = Path(path)
     check_legible(fig, path.stem)
+    with style():
+        overlaps = overlapping_colorbars(fig)
+    if overlaps:
+        plt.close(fig)
+        raise ValueError(f"{path.name}: " + "; ".join(overlaps))
     path.parent.mkdir(parents=True, exist_ok=True)
     with style():
         fig.savefig(path)

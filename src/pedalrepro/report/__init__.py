@@ -14,7 +14,6 @@ Reproduced values are computed by the pipeline, never typed in.
 from __future__ import annotations
 
 from . import claims as claims_module
-from . import figure_rows
 from .claims import (
                      CHECK_KINDS,
                      DATA_FILES,
@@ -68,7 +67,7 @@ __all__ = [
     "EXPECTED_STATUS_FILE", "KINDS", "MEANING", "NOT_REPRODUCIBLE", "PRECISE_LIMIT", "PROFILES",
     "REPORT_PAGE", "REPRODUCED", "STATUSES", "Claim", "Kind", "Row", "add_cli", "anchor",
     "book_pages", "by_id", "check", "claim", "claims", "claims_module", "combine",
-    "expected_status", "figure_coverage", "figure_ids", "figure_rows", "legend_html",
+    "expected_status", "figure_coverage", "figure_ids", "legend_html",
     "links_html", "load", "profile_of",
     "published_value", "rows_html", "select", "status_changes", "summary", "thesis_chapter",
     "update_expected_status", "validate_report", "write_rows",

@@ -7,6 +7,10 @@ report row belongs to the claim whose id template matches its id (the most speci
 filled with the fields the id carries. :func:`status_html` is the line under a figure's caption:
 the count of its rows per status, linked to the report page, or, for a figure no row checks, that
 it is compared with the thesis's by eye only.
+
+Not imported by the package ``pedalrepro.report`` (whose rule scripts must not depend on the
+figure drawing code this module reaches through the figure registry): the notebooks import it
+as ``from pedalrepro.report import figure_rows``.
 """
 
 from __future__ import annotations
