@@ -6,7 +6,8 @@
 CLOSED_LOOP = config["closed_loop"]
 CLOSED_LOOP_MAPS = [interm(f"closed_loop/map_{m}.npz") for m in CLOSED_LOOP["map_models"]]
 CLOSED_LOOP_TABLES = [table("closed_loop_validation"), table("rider_gains"),
-                      table("table_4_2_closed_loop"), table("steer_stiffness")]
+                      table("table_4_2_closed_loop"), table("steer_stiffness"),
+                      table("lean_rider")]
 CLOSED_LOOP_FIGURES = [figure("closed_loop_validation"), figure("closed_loop_gains"),
                        figure("closed_loop_maps"), figure("closed_loop_time")]
 
@@ -29,6 +30,23 @@ rule closed_loop_gains:
         "Rider gains (HumanControl rules), closed-loop eigenvalues and maps of {params.closed_loop[map_models]}"
     script:
         "scripts/closed_loop_gains.py"
+
+
+rule closed_loop_lean:
+    input:
+        code=code_inputs("scripts/closed_loop_lean.py"),
+    output:
+        table=table("lean_rider"),
+    params:
+        closed_loop=cfg("closed_loop", "map_speed_min_m_s", "speed_max_m_s", "map_speed_step_m_s"),
+    log:
+        logfile("closed_loop_lean"),
+    benchmark:
+        bench("closed_loop_lean")
+    message:
+        "Hands-free lean-torque rider on the leaning-rider plant (Browser + Jason): the gain rules on T9"
+    script:
+        "scripts/closed_loop_lean.py"
 
 
 rule closed_loop_spectra:

@@ -23,6 +23,7 @@ CLUSTER_LOCAL_RULES = sorted(
         "section2_numbers",
         "linear_table_4_1",
         "validation_tables",
+        "closed_loop_lean",  # the lean rider's table (seconds)
     }
 )
 

@@ -398,6 +398,17 @@ def test_reader_tables_have_units_no_index_and_a_dash_for_missing():
     assert wide.loc[1, "CR 20 km/h"] == 3.0
 
 
+@pytest.mark.parametrize("column, shown", [
+    ("steer_stiffness_n_m_rad", "steer stiffness (N m/rad)"),  # not "n m (rad)"
+    ("rule_kPsi_rad_rad", "rule kPsi (rad/rad)"), ("rule_kY_rad_m", "rule kY (rad/m)"),
+    ("rule_kPhi_1_s", "rule kPhi (1/s)"), ("max_real_rad_s", "max real (rad/s)"),
+    ("roll_rad", "roll (rad)"), ("kPhiDot_s", "kPhiDot (s)")])
+def test_headers_read_compound_units(column, shown):
+    from pedalrepro import book
+
+    assert book.header(column) == shown
+
+
 def test_rule_figures_are_linked_as_files_not_inlined(monkeypatch, tmp_path):
     from pedalrepro import book
 

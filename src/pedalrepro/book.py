@@ -167,6 +167,7 @@ def file_figure_html(path: str | Path, caption: str) -> str:
 
 #: Column-name endings and the unit a reader's header shows for them (longest first).
 UNITS: tuple[tuple[str, str], ...] = (
+    ("_n_m_rad", "N m/rad"), ("_rad_rad", "rad/rad"), ("_rad_m", "rad/m"), ("_1_s", "1/s"),
     ("_rad_s", "rad/s"), ("_m_s", "m/s"), ("_kmh", "km/h"), ("_rpm", "rpm"), ("_percent", "%"),
     ("_pct", "%"), ("_rad", "rad"), ("_deg", "deg"), ("_nm", "N m"), ("_n", "N"), ("_hz", "Hz"),
     ("_kg", "kg"), ("_ms", "ms"), ("_m", "m"), ("_s", "s"))

@@ -5,4 +5,6 @@ thesis's linear models (beyond the thesis; its Sec 5 leaves a rider model to fut
   added, and the rider's second-order neuromuscular filter on the steer torque.
 - :mod:`.gains`: the published gain rules (HumanControl ``generate_data.m``).
 - :mod:`.closed_loop`: closed-loop eigenvalues and the closed-loop pedalling response.
+- :mod:`.lean`: the hands-free lean-torque rider on Moore's leaning-rider plant, and why the
+  gain rules give no stable loop on it.
 """

@@ -142,6 +142,9 @@ def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
 def control_law(p: Plant, gains: np.ndarray, outer: int = 5) -> tuple[np.ndarray, float]:
     """The rider's command ``u = K x + k_r r`` with loops ``0 .. outer-1`` closed.
 
+    Any plant with five loop outputs ``C`` (5, n) works: this 8-state one or the 10-state
+    leaning-rider plant of :func:`pedalrepro.rider.lean.lean_plant`.
+
     ``r`` is the command entering loop ``outer - 1`` (``yc`` when all five loops are closed);
     for the open-loop transfer function of loop ``j`` call with ``outer=j`` and the gains of
     loops ``< j``: ``r`` is then the (unit-gain) command of loop ``j - 1``.
@@ -152,7 +155,7 @@ def control_law(p: Plant, gains: np.ndarray, outer: int = 5) -> tuple[np.ndarray
         (8,) feedback row and the command gain.
     """
     g = np.asarray(gains, float)
-    k = np.zeros(N_STATES)
+    k = np.zeros(p.A.shape[0])
     k_r = 1.0
     # c_{l-1} = g_l (c_l - y_l) from loop outer-1 down to 0
     for level in range(outer - 1, -1, -1):
@@ -162,7 +165,7 @@ def control_law(p: Plant, gains: np.ndarray, outer: int = 5) -> tuple[np.ndarray
 
 
 def closed_matrix(p: Plant, gains: np.ndarray, outer: int = 5) -> np.ndarray:
-    """State matrix with loops ``0 .. outer-1`` closed (:func:`control_law`), (8, 8)."""
+    """State matrix with loops ``0 .. outer-1`` closed (:func:`control_law`), (n, n)."""
     k, _ = control_law(p, gains, outer)
     return p.A + np.outer(p.B_u, k)
 
@@ -179,7 +182,7 @@ def open_loop_response(p: Plant, gains: np.ndarray, loop: int,
     _, k_r = control_law(p, gains, loop)
     b = p.B_u * k_r
     w = np.atleast_1d(np.asarray(frequency_rad_s, float))
-    eye = np.eye(N_STATES)
-    x = np.linalg.solve(1j * w[:, None, None] * eye - a, np.broadcast_to(b, (len(w), N_STATES))
-                        [..., None])[..., 0]
+    n = p.A.shape[0]
+    x = np.linalg.solve(1j * w[:, None, None] * np.eye(n) - a,
+                        np.broadcast_to(b, (len(w), n))[..., None])[..., 0]
     return x @ p.C[loop]
