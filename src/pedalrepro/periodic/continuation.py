@@ -3,6 +3,7 @@ multiplier crossings, and the branch rule's output (``rules/periodic.smk``)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,6 +72,191 @@ def _crossings(values: np.ndarray, mus: np.ndarray) -> list[dict]:
     return out
 
 
+def _check_parameter(parameter: str, method: str, start: float, stop: float,
+                     cadence_rad_s: float | None) -> None:
+    """Reject a continuation that :func:`continue_branch` cannot run.
+
+    Parameters
+    ----------
+    parameter, method, start, stop, cadence_rad_s
+        As in :func:`continue_branch`.
+
+    Raises
+    ------
+    ValueError
+        For an unknown parameter, a cadence or torque-scale branch of another method than NT,
+        or a torque-scale branch without a cadence or over non-positive scales.
+    """
+    if parameter not in ("speed_m_s", "omega_rad_s", "torque_scale"):
+        raise ValueError(f"unknown continuation parameter {parameter!r}")
+    if parameter in ("omega_rad_s", "torque_scale") and method != "NT":
+        raise ValueError(f"continuation in {parameter} is available for NT (NP has no torques "
+                         "and its legs depend on the cadence)")
+    if parameter == "torque_scale":
+        if cadence_rad_s is None:
+            raise ValueError("continuation in torque_scale needs cadence_rad_s")
+        if min(start, stop) <= 0.0:
+            raise ValueError("a torque-scale branch runs over positive scales "
+                             f"(got {start} .. {stop})")
+
+
+def _solver_factory(model: str, method: str, parameter: str, fixed: float,
+                    cadence_rad_s: float | None, kw: dict) -> Callable[[float], OrbitSolver]:
+    """The orbit solver at a parameter value along the branch.
+
+    Parameters
+    ----------
+    model, method, parameter, fixed, cadence_rad_s
+        As in :func:`continue_branch`.
+    kw
+        Keyword arguments of every :class:`OrbitSolver` (``torque_scale``, ``rtol``,
+        ``max_growth``).
+
+    Returns
+    -------
+    callable
+        ``solver_at(p)``: in speed, one solver (made on the first call) set to the speed ``p``;
+        in cadence or torque scale, a new solver at ``p`` set to the speed ``fixed``.
+    """
+    solvers: dict[float, OrbitSolver] = {}
+
+    def solver_at(p: float) -> OrbitSolver:
+        if parameter == "speed_m_s":
+            s = solvers.get(0.0) or solvers.setdefault(0.0, OrbitSolver(model, method, fixed,
+                                                                        **kw))
+            s.set_speed(p)
+            return s
+        if parameter == "torque_scale":
+            s = OrbitSolver(model, method, cadence_rad_s, **dict(kw, torque_scale=p))
+        else:
+            s = OrbitSolver(model, method, p, **kw)
+        s.set_speed(fixed)
+        return s
+
+    return solver_at
+
+
+def _segments(solver_at: Callable[[float], OrbitSolver], model: str, method: str,
+              parameter: str, start: float, stop: float, fixed: float, kw: dict) -> int:
+    """The number of shooting segments, the worst case over the range, fixed along the branch.
+
+    Parameters
+    ----------
+    solver_at
+        From :func:`_solver_factory`.
+    model, method, parameter, start, stop, fixed
+        As in :func:`continue_branch`.
+    kw
+        Keyword arguments of every :class:`OrbitSolver`.
+
+    Returns
+    -------
+    int
+        Segments: the most over 11 speeds of the range (speed), those at the fixed speed
+        (torque scale) or those of the solver at the range's lower end (cadence).
+    """
+    lo, hi = sorted((start, stop))
+    probe = np.linspace(lo, hi, 11)
+    if parameter == "speed_m_s":
+        s0 = solver_at(start)
+        return max(s0.segments_for(p) for p in probe)
+    if parameter == "torque_scale":
+        return solver_at(start).segments_for(fixed)
+    return max(OrbitSolver(model, method, max(p, 1e-3), **kw).segments_for(fixed)
+               for p in probe[:1])
+
+
+def _first_points(solver_at: Callable[[float], OrbitSolver], parameter: str, start: float,
+                  stop: float, fixed: float, ds: float, m: int) -> list[tuple[float, Orbit]]:
+    """The branch's first two orbits, solved directly, whose secant starts the continuation.
+
+    Parameters
+    ----------
+    solver_at
+        From :func:`_solver_factory`.
+    parameter, start, stop, fixed, ds
+        As in :func:`continue_branch`.
+    m
+        Shooting segments (:func:`_segments`).
+
+    Returns
+    -------
+    list of (float, Orbit)
+        The orbits at ``start`` (on ``m`` segments) and one step ``ds`` (at most the range)
+        towards ``stop`` (started from the first).
+
+    Raises
+    ------
+    ConvergenceError
+        If either orbit does not converge.
+    """
+    s = solver_at(start)
+    o0 = s.solve(start if parameter == "speed_m_s" else fixed, segments=m)
+    if not o0.converged:
+        raise ConvergenceError(f"no orbit at the branch start {parameter} = {start}",
+                               o0.periodicity_residual)
+    direction = 1.0 if stop >= start else -1.0
+    p1 = start + direction * min(ds, abs(stop - start))
+    s = solver_at(p1)
+    o1 = s.solve(p1 if parameter == "speed_m_s" else fixed, start=o0.nodes)
+    if not o1.converged:
+        raise ConvergenceError(f"no orbit at {parameter} = {p1}", o1.periodicity_residual)
+    return [(start, o0), (p1, o1)]
+
+
+def _correct(solver_at: Callable[[float], OrbitSolver], Xp: np.ndarray, t: np.ndarray, m: int,
+             zs: float, tol: float) -> tuple[float, Orbit, np.ndarray] | None:
+    """Pseudo-arclength corrector: Newton on ``R(z, p) = 0`` and ``t . (X - Xp) = 0``.
+
+    Parameters
+    ----------
+    solver_at
+        From :func:`_solver_factory`.
+    Xp
+        The predicted point (scaled nodes, then the parameter).
+    t
+        The unit secant, normal to the arclength constraint.
+    m
+        Shooting segments.
+    zs
+        The scale of the nodes in the unknowns.
+    tol
+        Periodicity residual to reach (relative to ``zs``).
+
+    Returns
+    -------
+    tuple of (float, Orbit, numpy.ndarray) or None
+        The parameter, the orbit and the corrected unknowns; ``None`` if eight Newton steps do
+        not converge or a step fails (floating-point error, singular matrix).
+    """
+    Y = Xp.copy()
+    for _ in range(8):
+        nodes, p = Y[:-1].reshape(m, 4) * zs, float(Y[-1])
+        try:
+            s = solver_at(p)
+            ev = s.residual(nodes)
+            R = ev["R"].ravel()
+            res = float(np.max(np.abs(R)))
+            arc = float(t @ (Y - Xp))
+            if res <= tol * zs + 1e-15 and abs(arc) <= 1e-10:
+                return p, s._orbit(nodes, ev, res, True, 0, ev["n_rhs"]), Y
+            dp = 1e-6 * max(1.0, abs(p))
+            ev2 = solver_at(p + dp).residual(nodes, variational=False)
+            s = solver_at(p)
+        except (FloatingPointError, ZeroDivisionError):
+            return None
+        A = np.zeros((4 * m + 1, 4 * m + 1))
+        A[:-1, :-1] = ev["J"] * zs
+        A[:-1, -1] = (ev2["R"].ravel() - R) / dp
+        A[-1] = t
+        try:
+            dY = np.linalg.solve(A, -np.concatenate([R, [arc]]))
+        except np.linalg.LinAlgError:
+            return None
+        Y = Y + dY
+    return None
+
+
 def continue_branch(model: str, method: str, parameter: str, start: float, stop: float,
                     fixed: float, *, ds: float = 0.1, ds_min: float = 1e-3, ds_max: float = 0.5,
                     max_points: int = 400, torque_scale: float = 1.0, rtol: float = 1e-9,
@@ -97,65 +283,19 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
         Locate each multiplier crossing by bisection to this parameter tolerance (``None``:
         linear interpolation of ``log |mu|`` between branch points only).
     """
-    if parameter not in ("speed_m_s", "omega_rad_s", "torque_scale"):
-        raise ValueError(f"unknown continuation parameter {parameter!r}")
-    if parameter in ("omega_rad_s", "torque_scale") and method != "NT":
-        raise ValueError(f"continuation in {parameter} is available for NT (NP has no torques "
-                         "and its legs depend on the cadence)")
-    if parameter == "torque_scale":
-        if cadence_rad_s is None:
-            raise ValueError("continuation in torque_scale needs cadence_rad_s")
-        if min(start, stop) <= 0.0:
-            raise ValueError("a torque-scale branch runs over positive scales "
-                             f"(got {start} .. {stop})")
+    _check_parameter(parameter, method, start, stop, cadence_rad_s)
     kw = dict(torque_scale=torque_scale, rtol=rtol, max_growth=max_growth)
-    solvers: dict[float, OrbitSolver] = {}
-
-    def solver_at(p: float) -> OrbitSolver:
-        if parameter == "speed_m_s":
-            s = solvers.get(0.0) or solvers.setdefault(0.0, OrbitSolver(model, method, fixed,
-                                                                        **kw))
-            s.set_speed(p)
-            return s
-        if parameter == "torque_scale":
-            s = OrbitSolver(model, method, cadence_rad_s, **dict(kw, torque_scale=p))
-        else:
-            s = OrbitSolver(model, method, p, **kw)
-        s.set_speed(fixed)
-        return s
-
-    # segments: the worst case over the range, fixed along the branch
+    solver_at = _solver_factory(model, method, parameter, fixed, cadence_rad_s, kw)
     lo, hi = sorted((start, stop))
-    probe = np.linspace(lo, hi, 11)
-    if parameter == "speed_m_s":
-        s0 = solver_at(start)
-        m = max(s0.segments_for(p) for p in probe)
-    elif parameter == "torque_scale":
-        m = solver_at(start).segments_for(fixed)
-    else:
-        m = max(OrbitSolver(model, method, max(p, 1e-3), **kw).segments_for(fixed)
-                for p in probe[:1])
-
-    def first(p: float) -> Orbit:
-        s = solver_at(p)
-        return s.solve(p if parameter == "speed_m_s" else fixed, segments=m)
-
-    o0 = first(start)
-    if not o0.converged:
-        raise ConvergenceError(f"no orbit at the branch start {parameter} = {start}",
-                               o0.periodicity_residual)
+    m = _segments(solver_at, model, method, parameter, start, stop, fixed, kw)
+    pts = _first_points(solver_at, parameter, start, stop, fixed, ds, m)
+    (_, o0), (p1, o1) = pts
     direction = 1.0 if stop >= start else -1.0
-    p1 = start + direction * min(ds, abs(stop - start))
-    s = solver_at(p1)
-    o1 = s.solve(p1 if parameter == "speed_m_s" else fixed, start=o0.nodes)
-    if not o1.converged:
-        raise ConvergenceError(f"no orbit at {parameter} = {p1}", o1.periodicity_residual)
     zs = max(float(np.max(np.abs(o0.nodes))), 1e-12)
 
     def pack(nodes, p):
         return np.concatenate([nodes.ravel() / zs, [p]])
 
-    pts = [(start, o0), (p1, o1)]
     X0, X1 = pack(o0.nodes, start), pack(o1.nodes, p1)
     t = (X1 - X0) / np.linalg.norm(X1 - X0)
     X = X1
@@ -165,45 +305,39 @@ def continue_branch(model: str, method: str, parameter: str, start: float, stop:
         if (p_now - stop) * direction >= 0 or not (min(lo, hi) - 1e-9 <= p_now <= max(lo, hi)
                                                     + 1e-9):
             break
-        Xp = X + h * t
-        Y = Xp.copy()
-        ok, ev = False, None
-        for _ in range(8):
-            nodes, p = Y[:-1].reshape(m, 4) * zs, float(Y[-1])
-            try:
-                s = solver_at(p)
-                ev = s.residual(nodes)
-                R = ev["R"].ravel()
-                res = float(np.max(np.abs(R)))
-                arc = float(t @ (Y - Xp))
-                if res <= tol * zs + 1e-15 and abs(arc) <= 1e-10:
-                    ok = True
-                    break
-                dp = 1e-6 * max(1.0, abs(p))
-                ev2 = solver_at(p + dp).residual(nodes, variational=False)
-                s = solver_at(p)
-            except (FloatingPointError, ZeroDivisionError):
-                break
-            A = np.zeros((4 * m + 1, 4 * m + 1))
-            A[:-1, :-1] = ev["J"] * zs
-            A[:-1, -1] = (ev2["R"].ravel() - R) / dp
-            A[-1] = t
-            try:
-                dY = np.linalg.solve(A, -np.concatenate([R, [arc]]))
-            except np.linalg.LinAlgError:
-                break
-            Y = Y + dY
-        if not ok:
+        step = _correct(solver_at, X + h * t, t, m, zs, tol)
+        if step is None:
             h /= 2
             if h < ds_min:
                 break
             continue
-        orb = s._orbit(nodes, ev, res, True, 0, ev["n_rhs"])
+        p, orb, Y = step
         pts.append((p, orb))
         t_new = (Y - X) / np.linalg.norm(Y - X)
         t = t_new
         X = Y
         h = min(h * 1.5, ds_max)
+    return _branch(model, method, parameter, fixed, pts, solver_at, refine)
+
+
+def _branch(model: str, method: str, parameter: str, fixed: float,
+            pts: list[tuple[float, Orbit]], solver_at: Callable[[float], OrbitSolver],
+            refine: float | None) -> Branch:
+    """The :class:`Branch` of the continued points, with its multiplier crossings.
+
+    Parameters
+    ----------
+    model, method, parameter, fixed, refine
+        As in :func:`continue_branch`.
+    pts
+        ``(parameter value, orbit)`` along the branch.
+    solver_at
+        From :func:`_solver_factory` (for the bisection of the crossings).
+
+    Returns
+    -------
+    Branch
+    """
     values = np.array([p for p, _ in pts])
     orbs = [o for _, o in pts]
     mus = np.array([o.floquet_multipliers for o in orbs])
