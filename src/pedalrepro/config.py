@@ -206,25 +206,22 @@ def check_results_dir(results_dir: str, root: str | Path = paths.ROOT,
     return path
 
 
-def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
-    """The cross-key rules a JSON schema cannot express; :class:`ConfigError` naming the key.
+def _sampling_errors(config: Mapping[str, Any]) -> list[str]:
+    """The sampling rules of :func:`check` (Nyquist and a whole period).
 
-    * no NaN or infinity anywhere;
-    * ``linear.sample_rate_hz`` above twice the highest harmonic frequency of the time grid,
-      ``max(linear.harmonics) * linear.time_omega_max_rad_s / 2 pi`` (Nyquist: the DFT amplitudes
-      of Sec 3.1.2.1 would alias);
-    * ``linear.duration_s`` at least one period of the smallest non-zero cadence of the time grid
-      (``2 pi / linear.time_omega_step_rad_s``): the DFT needs a whole period;
-    * ``section2.harmonics`` below half of ``section2.samples_per_revolution`` (Nyquist);
-    * ``mocap.angle_lowpass_hz`` (when not 0) below half of ``mocap.sample_rate_hz``;
-    * each grid step of :data:`STEP_MAXIMA` below its maximum, and each
-      ``linear.normal_cycling_*`` range increasing;
-    * ``results_dir`` as :func:`check_results_dir`.
+    Parameters
+    ----------
+    config
+        The configuration (finite numbers).
+
+    Returns
+    -------
+    list of str
+        The broken rules' messages, in this order: ``linear.sample_rate_hz`` against the highest
+        harmonic frequency, ``linear.duration_s`` against one period of the smallest cadence,
+        ``section2.harmonics`` and ``mocap.angle_lowpass_hz`` against half their sample rates.
     """
-    errors = [f"{key}: {value!r} is not a finite number" for key, value in _numbers(config)
-              if not math.isfinite(value)]
-    if errors:
-        raise ConfigError("configuration has non-finite values:\n  " + "\n  ".join(errors))
+    errors = []
     lin, s2, mocap = config["linear"], config["section2"], config["mocap"]
     f_max_hz = max(lin["harmonics"]) * lin["time_omega_max_rad_s"] / (2 * math.pi)
     if not lin["sample_rate_hz"] > 2 * f_max_hz:
@@ -245,6 +242,24 @@ def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
     if mocap["angle_lowpass_hz"] and not mocap["angle_lowpass_hz"] < mocap["sample_rate_hz"] / 2:
         errors.append(f"mocap.angle_lowpass_hz: {mocap['angle_lowpass_hz']:g} Hz is not below "
                       f"half of mocap.sample_rate_hz ({mocap['sample_rate_hz']:g} Hz; Nyquist)")
+    return errors
+
+
+def _step_errors(config: Mapping[str, Any]) -> list[str]:
+    """The grid-step rules of :func:`check`.
+
+    Parameters
+    ----------
+    config
+        The configuration (finite numbers).
+
+    Returns
+    -------
+    list of str
+        The messages for each step of :data:`STEP_MAXIMA` then :data:`PERIODIC_STEP_MAXIMA`
+        not below its maximum, then for each range of :data:`INCREASING_RANGES` not increasing.
+    """
+    errors = []
     steps = [("linear", st, mx) for st, mx in STEP_MAXIMA] \
         + [("periodic", st, mx) for st, mx in PERIODIC_STEP_MAXIMA]
     for section, step, maximum in steps:
@@ -256,6 +271,24 @@ def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
         lo, hi = _get(config, key)
         if not lo < hi:
             errors.append(f"{key}: [{lo:g}, {hi:g}] is not an increasing range [low, high]")
+    return errors
+
+
+def _cap_errors(config: Mapping[str, Any]) -> list[str]:
+    """The size caps of :func:`check`.
+
+    Parameters
+    ----------
+    config
+        The configuration (finite numbers).
+
+    Returns
+    -------
+    list of str
+        The messages for each grid of :data:`GRID_CAPS` above its cap (named by the step giving
+        the most points), then for a time solution above :data:`MAX_TIME_SAMPLES` samples.
+    """
+    errors = []
     for section, pairs, cap, what in GRID_CAPS:
         sec = config[section]
         counts = [grid_count(sec[st], sec[mx]) for st, mx in pairs]
@@ -266,21 +299,61 @@ def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
             lead = pairs[counts.index(max(counts))][0]  # the step giving the most points
             errors.append(f"{section}.{lead}: the {what} would have {total:.4g} points "
                           f"({keys}), above the cap of {cap} (pedalrepro.config.GRID_CAPS)")
+    lin = config["linear"]
     samples = lin["duration_s"] * lin["sample_rate_hz"] + 1
     if samples > MAX_TIME_SAMPLES:
         errors.append(f"linear.sample_rate_hz: linear.duration_s x sample_rate_hz = "
                       f"{samples:.4g} samples per time solution, above the cap of "
                       f"{MAX_TIME_SAMPLES}")
+    return errors
+
+
+def _list_errors(config: Mapping[str, Any]) -> list[str]:
+    """The list rules of :func:`check`.
+
+    Parameters
+    ----------
+    config
+        The configuration (finite numbers).
+
+    Returns
+    -------
+    list of str
+        The messages for each list of :data:`UNIQUE_LISTS` with a repeated item, then for
+        ``linear.harmonics`` not starting at 1 and increasing.
+    """
+    errors = []
     for key in UNIQUE_LISTS:
         items = list(_get(config, key))
         repeated = sorted({x for x in items if items.count(x) > 1}, key=str)
         if repeated:
             errors.append(f"{key}: {items} repeats {', '.join(map(str, repeated))} (each item "
                           "once: a repeated item counts twice)")
-    harmonics = list(lin["harmonics"])
+    harmonics = list(config["linear"]["harmonics"])
     if harmonics[0] != 1 or harmonics != sorted(set(harmonics)):
         errors.append(f"linear.harmonics: {harmonics} must start at 1 (the cadence, whose "
                       "amplitude the maps show) and increase, e.g. [1, 3, 5]")
+    return errors
+
+
+def _job_errors(config: Mapping[str, Any], root: str | Path) -> list[str]:
+    """The rules of :func:`check` on how the workflow runs: sweep jobs and the results folder.
+
+    Parameters
+    ----------
+    config
+        The configuration (finite numbers).
+    root
+        The repository root, against which ``results_dir`` resolves.
+
+    Returns
+    -------
+    list of str
+        The message for ``nonlinear.chunks`` above the speeds of the time grid, then that of
+        :func:`check_results_dir`.
+    """
+    errors = []
+    lin = config["linear"]
     speeds = grid_count(lin["time_speed_step_m_s"], lin["time_speed_max_m_s"])
     chunks = config["nonlinear"]["chunks"]
     if chunks > speeds:
@@ -291,6 +364,33 @@ def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
         check_results_dir(config["results_dir"], root)
     except ConfigError as exc:
         errors.append(str(exc))
+    return errors
+
+
+def check(config: Mapping[str, Any], root: str | Path = paths.ROOT) -> None:
+    """The cross-key rules a JSON schema cannot express; :class:`ConfigError` naming the key.
+
+    * no NaN or infinity anywhere;
+    * ``linear.sample_rate_hz`` above twice the highest harmonic frequency of the time grid,
+      ``max(linear.harmonics) * linear.time_omega_max_rad_s / 2 pi`` (Nyquist: the DFT amplitudes
+      of Sec 3.1.2.1 would alias);
+    * ``linear.duration_s`` at least one period of the smallest non-zero cadence of the time grid
+      (``2 pi / linear.time_omega_step_rad_s``): the DFT needs a whole period;
+    * ``section2.harmonics`` below half of ``section2.samples_per_revolution`` (Nyquist);
+    * ``mocap.angle_lowpass_hz`` (when not 0) below half of ``mocap.sample_rate_hz``;
+    * each grid step of :data:`STEP_MAXIMA` below its maximum, and each
+      ``linear.normal_cycling_*`` range increasing;
+    * ``results_dir`` as :func:`check_results_dir`.
+    """
+    errors = [f"{key}: {value!r} is not a finite number" for key, value in _numbers(config)
+              if not math.isfinite(value)]
+    if errors:
+        raise ConfigError("configuration has non-finite values:\n  " + "\n  ".join(errors))
+    errors += _sampling_errors(config)
+    errors += _step_errors(config)
+    errors += _cap_errors(config)
+    errors += _list_errors(config)
+    errors += _job_errors(config, root)
     if errors:
         raise ConfigError("configuration fails its cross-key rules:\n  " + "\n  ".join(errors))
 
