@@ -291,8 +291,46 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
     run_id, rider, trial = parse_run_id(path)
     if not path.is_file():
         raise FileNotFoundError(f"run file not found: {path}")
+    data = _load_mat(path)
+    notes: list[str] = []
+    t, xyz, raw = _time_and_markers(data, path, sample_rate_hz, notes)
+    xyz, raw = _repair_markers(xyz, raw, path, notes)
+
+    condition = _string(data["condition"], "condition", path) if "condition" in data else ""
+    task = task_of(condition, rider, trial)
+    if "condition" not in data and task != "static":
+        notes.append("no condition: task from the run number")
+    bike = _bicycle(data, path, trial, notes)
+    speed = _belt_speed(data, path, task)
+    gear_var = "gearing" if "gearing" in data else ("gear" if "gear" in data else None)
+    gear = _string(data[gear_var], gear_var, path) if gear_var else "none"
+    if task != "static" and raw is not None and "xori" not in data:
+        notes.append("no xori/yori/zori: the repaired x, y, z serve as raw")
+    return Run(run_id=run_id, rider=rider, trial=trial, bicycle=bike, task=task,
+               condition=condition, speed_kmh=speed, gear=gear, t_s=t, markers_m=xyz,
+               raw_m=raw, source=path, notes=notes)
+
+
+def _load_mat(path: Path) -> dict:
+    """The variables of a MATLAB v5 file.
+
+    Parameters
+    ----------
+    path
+        The run file.
+
+    Returns
+    -------
+    dict
+        :func:`scipy.io.loadmat` of the file (arrays not squeezed).
+
+    Raises
+    ------
+    MocapFileError
+        A MATLAB v7.3 (HDF5) file, or one that cannot be read (corrupt or truncated).
+    """
     try:
-        data = scipy.io.loadmat(str(path), squeeze_me=False, mat_dtype=False)
+        return scipy.io.loadmat(str(path), squeeze_me=False, mat_dtype=False)
     except NotImplementedError as exc:  # MATLAB v7.3 = HDF5
         raise MocapFileError(
             f"{path}: MATLAB v7.3 (HDF5) file; the published runs are v5 files ({exc})") from exc
@@ -303,7 +341,34 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
     except Exception as exc:  # scipy raises many private error types on damaged streams
         raise MocapFileError(f"{path}: cannot read as a MATLAB file (corrupt or truncated?): "
                              f"{type(exc).__name__}: {exc}") from exc
-    notes: list[str] = []
+
+
+def _time_and_markers(data: dict, path: Path, sample_rate_hz: float,
+                      notes: list[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The time base and the repaired and raw marker arrays of a run file, as stored.
+
+    Parameters
+    ----------
+    data
+        The file's variables (:func:`_load_mat`).
+    path
+        The run file, named in the messages.
+    sample_rate_hz
+        The time base of a file without ``t``.
+    notes
+        The run's repair notes, appended to.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``t`` (s), then ``x, y, z`` and ``xori, yori, zori`` (or a copy of ``x, y, z`` without
+        them), each n x markers x 3, in the file's units and frame.
+
+    Raises
+    ------
+    MocapFileError
+        Missing ``x, y, z``, arrays of the wrong shape, or ``t`` not strictly increasing.
+    """
     missing = [v for v in ("x", "y", "z") if v not in data]
     if missing:
         raise MocapFileError(f"{path}: marker variables {missing} missing (expected t, x, y, z, "
@@ -322,6 +387,34 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
         raw = _coordinates(data, ("xori", "yori", "zori"), path, t.size)
     else:
         raw = xyz.copy()
+    return t, xyz, raw
+
+
+def _repair_markers(xyz: np.ndarray, raw: np.ndarray, path: Path,
+                    notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """The marker arrays with sentinels as NaN, in metres and the benchmark frame.
+
+    Parameters
+    ----------
+    xyz, raw
+        The repaired and raw arrays as stored (:func:`_time_and_markers`).
+    path
+        The run file, named in the messages.
+    notes
+        The run's repair notes, appended to.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``xyz`` and ``raw``: sentinels and NaN -> NaN (and all-zero raw points), millimetres ->
+        metres per array when the median wheel-centre height exceeds :data:`MM_THRESHOLD`, then
+        :data:`M_TO_N` applied.
+
+    Raises
+    ------
+    MocapFileError
+        If no wheel-centre marker is ever visible.
+    """
     xyz, n_sent = _missing_to_nan(xyz, zeros_missing=False)
     raw, n_sent_raw = _missing_to_nan(raw, zeros_missing=True)
     if n_sent or n_sent_raw:
@@ -338,11 +431,34 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
             notes.append(f"{name}: millimetres -> metres (wheel-centre height)")
     xyz *= M_TO_N
     raw *= M_TO_N
+    return xyz, raw
 
-    condition = _string(data["condition"], "condition", path) if "condition" in data else ""
-    task = task_of(condition, rider, trial)
-    if "condition" not in data and task != "static":
-        notes.append("no condition: task from the run number")
+
+def _bicycle(data: dict, path: Path, trial: int, notes: list[str]) -> str:
+    """The run's bicycle: ``bike`` (lower case), or for a static run without it, its trial's.
+
+    Parameters
+    ----------
+    data
+        The file's variables (:func:`_load_mat`).
+    path
+        The run file, named in the messages.
+    trial
+        The trial number (:func:`parse_run_id`).
+    notes
+        The run's repair notes, appended to.
+
+    Returns
+    -------
+    str
+        One of :data:`BICYCLES`.
+
+    Raises
+    ------
+    MocapFileError
+        If ``bike`` is not a string or not one of :data:`BICYCLES` (and the run is not a
+        static trial without it).
+    """
     bike = _string(data["bike"], "bike", path).lower() if "bike" in data else ""
     if bike not in BICYCLES:
         static = {int(t): b for b, t in _runs_table()["static_trials"].items()}
@@ -351,6 +467,30 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
             notes.append("no bike: static run bicycle from the trial number")
         else:
             raise MocapFileError(f"{path}: bike {bike!r} is not one of {sorted(BICYCLES)}")
+    return bike
+
+
+def _belt_speed(data: dict, path: Path, task: str) -> float:
+    """The belt speed ``V`` (km/h); NaN for a static run without it.
+
+    Parameters
+    ----------
+    data
+        The file's variables (:func:`_load_mat`).
+    path
+        The run file, named in the messages.
+    task
+        The run's task (:func:`task_of`).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    MocapFileError
+        If ``V`` is not a number, is negative or not finite, or is missing in a dynamic run.
+    """
     if "V" in data:
         try:
             speed = float(np.asarray(data["V"], dtype=float).ravel()[0])
@@ -358,17 +498,10 @@ def read_run(path: str | Path, sample_rate_hz: float = 100.0) -> Run:
             raise MocapFileError(f"{path}: belt speed V is not a number: {data['V']!r}") from exc
         if not np.isfinite(speed) or speed < 0:
             raise MocapFileError(f"{path}: belt speed V = {speed} km/h")
-    elif task == "static":
-        speed = float("nan")
-    else:
-        raise MocapFileError(f"{path}: belt speed V (km/h) missing in a {task} run")
-    gear_var = "gearing" if "gearing" in data else ("gear" if "gear" in data else None)
-    gear = _string(data[gear_var], gear_var, path) if gear_var else "none"
-    if task != "static" and raw is not None and "xori" not in data:
-        notes.append("no xori/yori/zori: the repaired x, y, z serve as raw")
-    return Run(run_id=run_id, rider=rider, trial=trial, bicycle=bike, task=task,
-               condition=condition, speed_kmh=speed, gear=gear, t_s=t, markers_m=xyz,
-               raw_m=raw, source=path, notes=notes)
+        return speed
+    if task == "static":
+        return float("nan")
+    raise MocapFileError(f"{path}: belt speed V (km/h) missing in a {task} run")
 
 
 def read_metadata(path: str | Path) -> dict:
