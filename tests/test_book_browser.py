@@ -27,13 +27,20 @@ import os
 import re
 import struct
 import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import urlparse
 
 import pytest
 
 from pedalrepro import report
+
+if TYPE_CHECKING:  # playwright is imported in the test (skipped without it)
+    import pandas as pd
+    from playwright.sync_api import BrowserContext, Page, Route
 
 pytestmark = pytest.mark.browser
 
@@ -164,137 +171,279 @@ def _listen(page, rel: str, problems: list[str]) -> None:
     page.on("response", response)
 
 
-def test_every_page_in_a_browser(served_book):
-    from playwright.sync_api import sync_playwright
+@dataclass
+class _Findings:
+    """What the pages of the book show, collected page by page in the browser."""
 
-    base, html_root, results = served_book
-    pages = [doc + ".html" for doc in report.book_pages()]
-    problems: list[str] = []
-    foreign: list[str] = []
-    shown: dict[str, str] = {}
-    mathjax_pages = 0
-    n_tables = 0
-    downloads: list[str] = []
-    sizes: list[dict] = []  # one per figure image: id, native and displayed width, links
-    images: list[dict] = []  # every image of every page: caption, full-size link
-    widest = [0.0, 0, 0, ""]  # the widest table: width / column, width, column (px), where
-    page_bytes: dict[str, int] = {}
-    anchors: list[tuple[str, str]] = []  # (page, href) of every link to a figure anchor
+    problems: list[str] = field(default_factory=list)
+    shown: dict[str, str] = field(default_factory=dict)  # figure id -> the first page showing it
+    mathjax_pages: int = 0
+    n_tables: int = 0
+    downloads: list[str] = field(default_factory=list)
+    sizes: list[dict] = field(default_factory=list)  # one per figure image: id, widths, links
+    images: list[dict] = field(default_factory=list)  # every image: caption, full-size link
+    # the widest table: width / column, width, column (px), where
+    widest: list = field(default_factory=lambda: [0.0, 0, 0, ""])
+    page_bytes: dict[str, int] = field(default_factory=dict)
+    anchors: list[tuple[str, str]] = field(default_factory=list)  # (page, href) to an anchor
 
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
-        context = browser.new_context(viewport={"width": 1280, "height": 900})
 
-        def route(r):
-            url = urlparse(r.request.url)
-            if url.scheme in ("data", "blob", "about") or url.hostname in LOCAL_HOSTS:
-                r.continue_()
-            else:  # record and block: the book must read fully offline
-                foreign.append(r.request.url)
-                r.abort()
+def _offline_route(foreign: list[str]) -> Callable[[Route], None]:
+    """A route handler that lets local requests through and records and blocks the others.
 
-        context.route("**/*", route)
-        for rel in pages:
-            page = context.new_page()
-            _listen(page, rel, problems)
-            response = page.goto(f"{base}/{rel}", wait_until="networkidle")
-            assert response is not None and response.ok, f"{rel}: {response and response.status}"
-            broken = page.evaluate("""async () => {
-                const imgs = Array.from(document.images);
-                imgs.forEach(i => { i.loading = 'eager'; });
-                await Promise.all(imgs.map(i => i.decode().catch(() => null)));
-                return imgs.filter(i => !(i.complete && i.naturalWidth > 0))
-                           .map(i => (i.getAttribute('alt') || '') + ' ' + i.src.slice(0, 80));
-            }""")
-            problems.extend(f"{rel}: broken image {b}" for b in broken)
-            for fid in page.eval_on_selector_all(
-                    "[data-figure-id]", "els => els.map(e => e.dataset.figureId)"):
-                shown.setdefault(fid, rel)
-            for fig in page.eval_on_selector_all("figure.pedalrepro-figure", """els => els
-                    .filter(e => e.querySelector('img'))
-                    .map(e => { const img = e.querySelector('img');
-                                const a = img.closest('a');
-                                return {id: e.dataset.figureId,
-                                        natural: img.naturalWidth,
-                                        displayed: img.getBoundingClientRect().width,
-                                        image_link: a ? a.href : null,
-                                        links: Array.from(e.querySelectorAll('a[href]'))
-                                                    .map(x => x.href)}; })"""):
-                fig["page"] = rel
-                sizes.append(fig)
-            if page.evaluate("() => document.querySelector('.math') !== null"):
-                page.wait_for_function("() => window.MathJax && MathJax.startup"
-                                       " && MathJax.startup.promise", timeout=15_000)
-                page.evaluate("() => MathJax.startup.promise")
-                n_typeset = page.evaluate("() => document.querySelectorAll('mjx-container').length")
-                if n_typeset == 0:
-                    problems.append(f"{rel}: math not typeset by MathJax")
-                mathjax_pages += 1
-            problems.extend(f"{rel}: table overflows the column without a scroll container: {t}"
-                            for t in page.evaluate(OVERFLOWING_TABLES_JS))
-            for img in page.evaluate(IMAGES_JS):
-                img["page"] = rel
-                images.append(img)
-            cells = page.evaluate(TABLE_CELLS_JS)
-            problems.extend(f"{rel}: truncated table cell {c!r}" for c in cells["truncated"])
-            if cells["widest"] / cells["column"] > widest[0]:
-                widest[:] = [cells["widest"] / cells["column"], cells["widest"], cells["column"],
-                             f"{rel} {cells['widestText']}"]
-            page_bytes[rel] = (html_root / rel).stat().st_size
-            anchors.extend((rel, h) for h in page.eval_on_selector_all(
-                "main a[href*='#pedalrepro-']", "els => els.map(e => e.getAttribute('href'))"))
-            n_tables += page.evaluate("() => document.querySelectorAll('main table').length")
-            if rel in SCREENSHOTS:
-                page.screenshot(path=str(results / "book" / SCREENSHOTS[rel]), full_page=True)
-            if rel == DOWNLOADS_PAGE:
-                downloads = page.eval_on_selector_all(
-                    "main a[href$='.csv'], main a[href$='.png'], main a[href$='.pdf']",
-                    "els => els.map(e => e.href)")
-            page.close()
-        # the Downloads page links every result table (CSV) and figure (PNG, PDF); each opens
-        expected = ({p.relative_to(results / "tables").as_posix()
-                     for p in (results / "tables").rglob("*.csv")}
-                    | {p.relative_to(results / "figures").as_posix()
-                       for p in (results / "figures").rglob("*.p[nd][gf]")})
-        linked = {h.split("/tables/", 1)[-1] if "/tables/" in h else h.split("/figures/", 1)[-1]
-                  for h in downloads}
-        assert expected and expected <= linked, sorted(expected - linked)[:10]
-        bad_downloads = [h for h in downloads if not context.request.get(h).ok]
-        assert not bad_downloads, bad_downloads[:10]
-        # every figure link opens the full-size file: the PNG at least as wide as the image
-        # shown, the PDF a PDF
-        link_problems = []
-        for fig in sizes:
-            for href in fig["links"]:
-                r = context.request.get(href)
-                body = r.body() if r.ok else b""
-                if href.endswith(".png"):
-                    ok = (r.ok and body[:8] == b"\x89PNG\r\n\x1a\n"
-                          and struct.unpack(">I", body[16:20])[0] >= fig["natural"])
-                elif href.endswith(".pdf"):
-                    ok = r.ok and body[:5] == b"%PDF-"
-                else:
-                    ok = r.ok
-                if not ok:
-                    link_problems.append(f"{fig['page']} {fig['id']}: link {href} ({r.status})")
-        browser.close()
+    Parameters
+    ----------
+    foreign
+        The URLs of blocked requests, appended to.
 
-    assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
-    coverage_ids = list(report.figure_ids()["id"])
-    # every image, not only the thesis figures: a caption and a full-size link (issue 25, part 2)
-    bare = [f"{i['page']} {i['name'] or i['alt'] or i['src']}: "
+    Returns
+    -------
+    callable
+        The handler, for ``context.route``.
+    """
+    def route(r: Route) -> None:
+        url = urlparse(r.request.url)
+        if url.scheme in ("data", "blob", "about") or url.hostname in LOCAL_HOSTS:
+            r.continue_()
+        else:  # record and block: the book must read fully offline
+            foreign.append(r.request.url)
+            r.abort()
+
+    return route
+
+
+def _read_figures(page: Page, rel: str, found: _Findings) -> None:
+    """Broken images, the figure ids shown and each figure image's sizes and links of a page.
+
+    Parameters
+    ----------
+    page
+        The loaded playwright page.
+    rel
+        Its path in the book.
+    found
+        The findings, appended to.
+    """
+    broken = page.evaluate("""async () => {
+        const imgs = Array.from(document.images);
+        imgs.forEach(i => { i.loading = 'eager'; });
+        await Promise.all(imgs.map(i => i.decode().catch(() => null)));
+        return imgs.filter(i => !(i.complete && i.naturalWidth > 0))
+                   .map(i => (i.getAttribute('alt') || '') + ' ' + i.src.slice(0, 80));
+    }""")
+    found.problems.extend(f"{rel}: broken image {b}" for b in broken)
+    for fid in page.eval_on_selector_all(
+            "[data-figure-id]", "els => els.map(e => e.dataset.figureId)"):
+        found.shown.setdefault(fid, rel)
+    for fig in page.eval_on_selector_all("figure.pedalrepro-figure", """els => els
+            .filter(e => e.querySelector('img'))
+            .map(e => { const img = e.querySelector('img');
+                        const a = img.closest('a');
+                        return {id: e.dataset.figureId,
+                                natural: img.naturalWidth,
+                                displayed: img.getBoundingClientRect().width,
+                                image_link: a ? a.href : null,
+                                links: Array.from(e.querySelectorAll('a[href]'))
+                                            .map(x => x.href)}; })"""):
+        fig["page"] = rel
+        found.sizes.append(fig)
+
+
+def _check_math(page: Page, rel: str, found: _Findings) -> None:
+    """On a page with math, wait for MathJax and record a page it did not typeset.
+
+    Parameters
+    ----------
+    page
+        The loaded playwright page.
+    rel
+        Its path in the book.
+    found
+        The findings, appended to (and the count of pages with math).
+    """
+    if page.evaluate("() => document.querySelector('.math') !== null"):
+        page.wait_for_function("() => window.MathJax && MathJax.startup"
+                               " && MathJax.startup.promise", timeout=15_000)
+        page.evaluate("() => MathJax.startup.promise")
+        n_typeset = page.evaluate("() => document.querySelectorAll('mjx-container').length")
+        if n_typeset == 0:
+            found.problems.append(f"{rel}: math not typeset by MathJax")
+        found.mathjax_pages += 1
+
+
+def _read_layout(page: Page, rel: str, html_root: Path, found: _Findings) -> None:
+    """Overflowing tables, every image, cut-off cells, the widest table, the page's size, its
+    links to figure anchors and its tables.
+
+    Parameters
+    ----------
+    page
+        The loaded playwright page.
+    rel
+        Its path in the book.
+    html_root
+        The built HTML, for the page's size in bytes.
+    found
+        The findings, appended to.
+    """
+    found.problems.extend(f"{rel}: table overflows the column without a scroll container: {t}"
+                          for t in page.evaluate(OVERFLOWING_TABLES_JS))
+    for img in page.evaluate(IMAGES_JS):
+        img["page"] = rel
+        found.images.append(img)
+    cells = page.evaluate(TABLE_CELLS_JS)
+    found.problems.extend(f"{rel}: truncated table cell {c!r}" for c in cells["truncated"])
+    if cells["widest"] / cells["column"] > found.widest[0]:
+        found.widest[:] = [cells["widest"] / cells["column"], cells["widest"], cells["column"],
+                           f"{rel} {cells['widestText']}"]
+    found.page_bytes[rel] = (html_root / rel).stat().st_size
+    found.anchors.extend((rel, h) for h in page.eval_on_selector_all(
+        "main a[href*='#pedalrepro-']", "els => els.map(e => e.getAttribute('href'))"))
+    found.n_tables += page.evaluate("() => document.querySelectorAll('main table').length")
+
+
+def _read_page(context: BrowserContext, base: str, rel: str, html_root: Path, results: Path,
+               found: _Findings) -> None:
+    """Open one page of the book and collect what it shows; screenshot it when listed in
+    :data:`SCREENSHOTS`, and read the Downloads page's links.
+
+    Parameters
+    ----------
+    context
+        The playwright browser context.
+    base
+        The local server's URL.
+    rel
+        The page's path in the book.
+    html_root
+        The built HTML.
+    results
+        The results folder (screenshots go to ``<results>/book/``).
+    found
+        The findings, appended to.
+    """
+    page = context.new_page()
+    _listen(page, rel, found.problems)
+    response = page.goto(f"{base}/{rel}", wait_until="networkidle")
+    assert response is not None and response.ok, f"{rel}: {response and response.status}"
+    _read_figures(page, rel, found)
+    _check_math(page, rel, found)
+    _read_layout(page, rel, html_root, found)
+    if rel in SCREENSHOTS:
+        page.screenshot(path=str(results / "book" / SCREENSHOTS[rel]), full_page=True)
+    if rel == DOWNLOADS_PAGE:
+        found.downloads = page.eval_on_selector_all(
+            "main a[href$='.csv'], main a[href$='.png'], main a[href$='.pdf']",
+            "els => els.map(e => e.href)")
+    page.close()
+
+
+def _check_downloads(context: BrowserContext, downloads: list[str], results: Path) -> None:
+    """The Downloads page links every result table (CSV) and figure (PNG, PDF); each opens.
+
+    Parameters
+    ----------
+    context
+        The playwright browser context.
+    downloads
+        The Downloads page's links.
+    results
+        The results folder.
+    """
+    expected = ({p.relative_to(results / "tables").as_posix()
+                 for p in (results / "tables").rglob("*.csv")}
+                | {p.relative_to(results / "figures").as_posix()
+                   for p in (results / "figures").rglob("*.p[nd][gf]")})
+    linked = {h.split("/tables/", 1)[-1] if "/tables/" in h else h.split("/figures/", 1)[-1]
+              for h in downloads}
+    assert expected and expected <= linked, sorted(expected - linked)[:10]
+    bad_downloads = [h for h in downloads if not context.request.get(h).ok]
+    assert not bad_downloads, bad_downloads[:10]
+
+
+def _figure_link_problems(context: BrowserContext, sizes: list[dict]) -> list[str]:
+    """Every figure link opens the full-size file: the PNG at least as wide as the image shown,
+    the PDF a PDF.
+
+    Parameters
+    ----------
+    context
+        The playwright browser context.
+    sizes
+        The figure images (:attr:`_Findings.sizes`).
+
+    Returns
+    -------
+    list of str
+        One line per link that does not.
+    """
+    link_problems = []
+    for fig in sizes:
+        for href in fig["links"]:
+            r = context.request.get(href)
+            body = r.body() if r.ok else b""
+            if href.endswith(".png"):
+                ok = (r.ok and body[:8] == b"\x89PNG\r\n\x1a\n"
+                      and struct.unpack(">I", body[16:20])[0] >= fig["natural"])
+            elif href.endswith(".pdf"):
+                ok = r.ok and body[:5] == b"%PDF-"
+            else:
+                ok = r.ok
+            if not ok:
+                link_problems.append(f"{fig['page']} {fig['id']}: link {href} ({r.status})")
+    return link_problems
+
+
+def _bare_images(images: list[dict]) -> list[str]:
+    """Every image, not only the thesis figures, needs a caption and a full-size link (issue
+    25, part 2).
+
+    Parameters
+    ----------
+    images
+        Every image of every page (:attr:`_Findings.images`).
+
+    Returns
+    -------
+    list of str
+        One line per image without either, saying which it lacks.
+    """
+    return [f"{i['page']} {i['name'] or i['alt'] or i['src']}: "
             + ", ".join(w for w, ok in (("no caption", i["captioned"]),
                                         ("no full-size link", i["linked"])) if not ok)
             for i in images if not (i["captioned"] and i["linked"])]
-    good = len(images) - len(bare)
-    print(f"\nimages: {good} of {len(images)} with a caption and a full-size link; "
-          f"{sum(i['inlined'] for i in images)} inlined")
+
+
+def _check_page_sizes(found: _Findings) -> None:
+    """Print the largest page and the widest table; no page above :data:`MAX_PAGE_BYTES`.
+
+    Parameters
+    ----------
+    found
+        The findings.
+    """
+    page_bytes, widest = found.page_bytes, found.widest
     largest = max(page_bytes, key=page_bytes.get)
     print(f"largest page: {largest} {page_bytes[largest] / 1e6:.2f} MB; widest table "
           f"{widest[1]} px in a {widest[2]:.0f} px column ({widest[0]:.2f}x): {widest[3]}")
     heavy = {p: f"{b / 1e6:.1f} MB" for p, b in page_bytes.items() if b > MAX_PAGE_BYTES}
     assert not heavy, f"pages above {MAX_PAGE_BYTES / 1e6:g} MB (inlined images?): {heavy}"
-    # links to figure anchors (the Appendices page links every appendix figure) land on them
+
+
+def _check_anchors(anchors: list[tuple[str, str]], html_root: Path,
+                   coverage_ids: list[str]) -> None:
+    """Links to figure anchors land on them, and the Appendices page links every appendix
+    figure.
+
+    Parameters
+    ----------
+    anchors
+        ``(page, href)`` of every link to a figure anchor.
+    html_root
+        The built HTML.
+    coverage_ids
+        The thesis's figure and table ids (``data/figure_ids.yaml``).
+    """
     broken_anchors = []
     for rel, href in anchors:
         target, _, anchor = href.partition("#")
@@ -305,11 +454,20 @@ def test_every_page_in_a_browser(served_book):
     appendix_links = {h.partition("#")[2] for r, h in anchors if r == "appendices.html"}
     appendix_ids = {f"pedalrepro-{i}" for i in coverage_ids if re.match(r"(fig|table)_[a-h]_", i)}
     assert appendix_ids <= appendix_links, sorted(appendix_ids - appendix_links)
-    assert not bare, "images without a caption or a full-size link:\n" + "\n".join(bare)
-    assert not problems, "\n".join(problems)
-    assert not link_problems, "\n".join(link_problems)
-    # figures drawn for the page: each figure the pipeline wrote is linked to its full-size PNG
-    # and PDF, and none shows below 60 % of its native width unless linked full size
+
+
+def _check_figure_sizes(sizes: list[dict], results: Path) -> None:
+    """Figures drawn for the page: each figure the pipeline wrote is linked to its full-size
+    PNG and PDF, and none shows below 60 % of its native width unless linked full size; the
+    displayed-size statistics are printed.
+
+    Parameters
+    ----------
+    sizes
+        The figure images (:attr:`_Findings.sizes`).
+    results
+        The results folder.
+    """
     fractions = [f["displayed"] / f["natural"] for f in sizes]
     small = [f"{f['page']} {f['id']}: {f['displayed'] / f['natural']:.0%}" for f in sizes
              if f["displayed"] / f["natural"] < MIN_DISPLAYED_FRACTION and not f["image_link"]]
@@ -323,29 +481,80 @@ def test_every_page_in_a_browser(served_book):
           f"{min(fractions):.2f}, median {statistics.median(fractions):.2f}, max "
           f"{max(fractions):.2f}; {sum(bool(f['image_link']) for f in sizes)} linked full size; "
           f"{len({h for f in sizes for h in f['links']})} links opened")
-    from pedalrepro.figures import coverage as figure_coverage
 
-    coverage_status = figure_coverage.coverage(results)["status"].value_counts().to_dict()
-    print(f"figure ids: {coverage_status}")
-    assert mathjax_pages >= 1  # the appendices page has math: MathJax ran from _static/mathjax
-    # every id the pipeline produced is shown; every id shown is a thesis id
+
+def _check_shown(shown: dict[str, str], results: Path) -> pd.DataFrame:
+    """Every id the pipeline produced is shown; every id shown is a thesis id or a registered
+    figure beyond the thesis (shown under its own label).
+
+    Parameters
+    ----------
+    shown
+        Figure id -> the first page showing it.
+    results
+        The results folder.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :func:`pedalrepro.report.figure_coverage` of the results.
+    """
     coverage = report.figure_coverage(results)
     produced = set(coverage.loc[coverage["present"], "id"])
     produced |= {p.stem for p in (results / "figures").glob("fig_*.png")}
     not_shown = sorted(produced - set(shown))
     assert not not_shown, f"produced but not shown in the book (figures.show): {not_shown}"
-    # a registered figure beyond the thesis (periodic orbits) is shown under its own label
     from pedalrepro import book
 
     unknown = sorted(s for s in set(shown) - set(coverage["id"])
                      if book.thesis_label(s) != book.BEYOND_THESIS)
     assert not unknown, f"shown ids not in data/figure_ids.yaml: {unknown}"
+    return coverage
+
+
+def test_every_page_in_a_browser(served_book):
+    from playwright.sync_api import sync_playwright
+
+    base, html_root, results = served_book
+    pages = [doc + ".html" for doc in report.book_pages()]
+    found = _Findings()
+    foreign: list[str] = []
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+        context = browser.new_context(viewport={"width": 1280, "height": 900})
+        context.route("**/*", _offline_route(foreign))
+        for rel in pages:
+            _read_page(context, base, rel, html_root, results, found)
+        _check_downloads(context, found.downloads, results)
+        link_problems = _figure_link_problems(context, found.sizes)
+        browser.close()
+
+    assert not foreign, f"requests to other hosts: {sorted(set(foreign))}"
+    coverage_ids = list(report.figure_ids()["id"])
+    images = found.images
+    bare = _bare_images(images)
+    good = len(images) - len(bare)
+    print(f"\nimages: {good} of {len(images)} with a caption and a full-size link; "
+          f"{sum(i['inlined'] for i in images)} inlined")
+    _check_page_sizes(found)
+    _check_anchors(found.anchors, html_root, coverage_ids)
+    assert not bare, "images without a caption or a full-size link:\n" + "\n".join(bare)
+    assert not found.problems, "\n".join(found.problems)
+    assert not link_problems, "\n".join(link_problems)
+    _check_figure_sizes(found.sizes, results)
+    from pedalrepro.figures import coverage as figure_coverage
+
+    coverage_status = figure_coverage.coverage(results)["status"].value_counts().to_dict()
+    print(f"figure ids: {coverage_status}")
+    # the appendices page has math: MathJax ran from _static/mathjax
+    assert found.mathjax_pages >= 1
+    coverage = _check_shown(found.shown, results)
     width, height = _png_size(results / "book" / "report.png")
     assert width >= 1000 and height >= 600
     assert _png_size(results / "book" / "chapter3.png")[1] >= 2000  # a long page, full
     assert _png_size(results / "book" / "own_bicycle.png")[1] >= 900
-    print(f"\ntables: {n_tables} on {len(pages)} pages, none overflowing without a scroll "
-          f"container; downloads: {len(downloads)} links opened")
-    print(f"\nbrowser: {len(pages)} pages, {len(shown)} of {len(coverage)} figure ids shown, "
+    print(f"\ntables: {found.n_tables} on {len(pages)} pages, none overflowing without a scroll "
+          f"container; downloads: {len(found.downloads)} links opened")
+    print(f"\nbrowser: {len(pages)} pages, {len(found.shown)} of {len(coverage)} figure ids shown, "
           f"screenshot {width}x{height} px at {results / 'book' / 'report.png'}")
-
