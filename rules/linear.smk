@@ -73,7 +73,7 @@ rule linear_time_la:
         "scripts/linear_time.py"
 
 
-# LN through the compiled Dormand-Prince integrator (issue 15: about 2 s per model on the thesis
+# LN through the compiled Dormand-Prince integrator (about 2 s per model on the thesis
 # grid, the job's start-up included) is, like LA, one job for all models.
 rule linear_time_ln:
     input:

@@ -1,4 +1,4 @@
-# "Your own bicycle" (issue 13 part 6): the pedalling resonance of a bicycle the thesis did not
+# "Your own bicycle": the pedalling resonance of a bicycle the thesis did not
 # study, from BicycleParameters' files (pedalrepro.own_bicycle; also `pedalrepro resonance`).
 
 # The shipped Rigid bicycle (BicycleParameters 1.5.2) with rider Jason. Its lst + lsp = 0.751 m

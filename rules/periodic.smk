@@ -1,4 +1,4 @@
-# Beyond the thesis: periodic orbits of the non-linear models (pedalrepro.periodic, issue 14).
+# Beyond the thesis: periodic orbits of the non-linear models (pedalrepro.periodic).
 # Shooting (single/multiple, half period) with Newton on the compiled right-hand side, Floquet
 # multipliers, pseudo-arclength continuation in speed at the reference cadence. One map job per
 # grid, method and model; one continuation job per model; a table job (figures: the registry). Every job

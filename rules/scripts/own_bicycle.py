@@ -1,4 +1,4 @@
-"""Snakemake script: 'Your own bicycle' (issue 13 part 6) for the book's example bicycle."""
+"""Snakemake script: 'Your own bicycle' for the book's example bicycle."""
 
 import sys
 from pathlib import Path

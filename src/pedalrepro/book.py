@@ -4,12 +4,12 @@ paragraphs that are either filled or replaced by one note, and the check of the 
 The notebooks call these (``from pedalrepro import book``); :mod:`pedalrepro.figures` re-exports
 :func:`show`, :func:`figure_html`, :func:`thesis_label` and the ``BOOK_*_HREF`` constants for the
 notebooks that call them there. Importing this module changes nothing in IPython: a notebook that
-glues numpy scalars asks for plain numbers with :func:`setup` (issue 21, part 5).
+glues numpy scalars asks for plain numbers with :func:`setup`.
 
 Figures in the book (CONTRIBUTING.md, "Figures in the book"): every image is a ``<figure
 class="pedalrepro-figure">`` with a caption and a link to its full-size file. A figure the
 pipeline wrote (``results/figures/...``) is linked as a file (``<img src="../figures/...">``),
-never inlined, so no page carries megabytes of base64 (issue 25, part 6); the book rule copies
+never inlined, so no page carries megabytes of base64; the book rule copies
 ``results/figures`` beside the pages.
 """
 
@@ -29,7 +29,7 @@ BOOK_FIGURES_HREF = "../figures/"
 #: ... and the result tables, from ``results/tables`` (the same copy, subfolders included).
 BOOK_TABLES_HREF = "../tables/"
 #: Text that must never reach a reader: the stand-ins that earlier builds glued into sentences
-#: when an input was missing (issue 25, part 1), and numpy reprs of glued scalars.
+#: when an input was missing, and numpy reprs of glued scalars.
 PLACEHOLDERS: tuple[str, ...] = (
     "(no real run in this build)", "(not computed in this build)", "(not built)",
     "np.float64(", "np.int64(", "np.float32(", "np.bool_(")
@@ -264,7 +264,7 @@ def show(obj=None, figure_id: str = "", caption: str = "", *, float_format: str 
         ``results/tables/<id>.csv``. A figure is linked to the rule's full-size PNG and PDF when
         they exist; a rule's PNG is linked as a file, not embedded.
     figure_id : str
-        The id of FIGURES.md / ``data/figure_ids.yaml`` (``"fig_2_3"``, ``"table_d_1"``).
+        The id of ``data/figure_ids.yaml`` (``"fig_2_3"``, ``"table_d_1"``).
     caption : str
         The caption in our own words; the thesis number is prepended.
 
@@ -461,7 +461,7 @@ def reader_text(page_html: str) -> str:
 
 
 def placeholder_problems(page_html: str, name: str = "page") -> list[str]:
-    """What a reader must never see on a built page (issue 25, part 1): a known placeholder
+    """What a reader must never see on a built page: a known placeholder
     (:data:`PLACEHOLDERS`), an unfilled ``{field}`` template in the text, and an empty glued
     value (myst-nb's ``<span class="pasted-text"></span>``)."""
     problems = []

@@ -1,4 +1,4 @@
-"""Figures of the rider's closed loop (beyond the thesis, issue 23; :mod:`pedalrepro.rider`).
+"""Figures of the rider's closed loop (beyond the thesis; :mod:`pedalrepro.rider`).
 
 Inputs are the files of ``rules/closed_loop.smk``: ``closed_loop_validation.csv`` (open loop vs
 closed loop vs measurement), ``intermediate/closed_loop/eigen.npz`` (rule gains and closed-loop

@@ -50,7 +50,7 @@ def check_legible(fig: matplotlib.figure.Figure, name: str = "figure") -> None:
 
 
 def overlapping_colorbars(fig: matplotlib.figure.Figure) -> list[str]:
-    """Colour bars drawn over another colour bar or over a plot (issue 25: two colour bars of
+    """Colour bars drawn over another colour bar or over a plot (two colour bars of
     the periodic maps were drawn on top of each other): the drawn bounding boxes (display
     units, after a draw) of each colour bar axes, its ticks and label included, against those of
     every other colour bar and the frame of every other axes. Returns one line per overlap

@@ -1,4 +1,4 @@
-"""Figures of the periodic orbits of the non-linear models (beyond the thesis, issue 14).
+"""Figures of the periodic orbits of the non-linear models (beyond the thesis).
 
 Inputs are the arrays written by :mod:`pedalrepro.periodic` (``results/intermediate/periodic``)
 and the NT/NP simulation sweeps (``results/intermediate/time/<method>_<model>.npz``). Registered

@@ -101,7 +101,7 @@ MAX_GAP_S = 0.5
 #: Largest Hann-weighted share of interpolated samples (many short gaps add up, same bound).
 MAX_INTERPOLATED_SHARE = 0.02
 #: Shortest analysable record (s): a whole run as well as the stretch analysed when long gaps
-#: split a run. MEASURED (``scripts/measure_min_length.py``, issue 22): every excerpt of run 3045
+#: split a run. MEASURED (``scripts/measure_min_length.py``): every excerpt of run 3045
 #: (real, 60 s; starts every 2.5 s) analysed as a run, its cadence amplitudes against the whole
 #: record's (roll 0.01184, steer 0.02181 rad): median | largest error of roll, steer
 #: 3 s: 21 | 82 %, 15 | 56 %; 10 s: 6.9 | 41 %, 4.0 | 26 %; 15 s: 5.8 | 20 %, 2.4 | 12 %;

@@ -1,4 +1,4 @@
-"""A hands-free rider on the leaning-rider plant (beyond the thesis; issue 23, item 4).
+"""A hands-free rider on the leaning-rider plant (beyond the thesis).
 
 The plant is Moore's (2012, dissertation, chapter "Extensions of the Whipple Model") Whipple
 bicycle with the rider's upper body ``G`` hinged to the rear frame by a lean joint, linearised
