@@ -33,7 +33,14 @@ import numpy as np
 
 from .. import params
 from .gains import ZETA_DELTA
-from .plant import NEURO_DAMPING, NEURO_FREQ_RAD_S, Geometry, Plant, closed_matrix
+from .plant import (
+    NEURO_DAMPING,
+    NEURO_FREQ_RAD_S,
+    Geometry,
+    Plant,
+    closed_matrix,
+    neuromuscular_filter,
+)
 
 #: Read at run time (pedalrepro.dependencies: the rules' code inputs).
 DATA_FILES: tuple[str, ...] = ("data/parameters/mooreriderlean2012_browser_jason.yaml",)
@@ -153,12 +160,7 @@ def lean_plant(speed_m_s: float, parameters: dict[str, float] | None = None,
     a = np.zeros((n, n))
     a[:8, :8] = a8
     a[:8, 8] = b8[:, 2]
-    wn, z = float(neuro_freq_rad_s), float(neuro_damping)
-    a[8, 9] = 1.0
-    a[9, 8] = -wn**2
-    a[9, 9] = -2.0 * z * wn
-    b_u = np.zeros(n)
-    b_u[9] = wn**2
+    b_u = neuromuscular_filter(a, 8, neuro_freq_rad_s, neuro_damping)
     b_f = np.zeros((n, 2))
     b_f[:8] = b8[:, :2]
     c = np.zeros((5, n))

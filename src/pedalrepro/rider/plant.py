@@ -89,6 +89,38 @@ class Plant:
 CONTROL_INPUTS: tuple[str, ...] = ("steer", "roll")
 
 
+def neuromuscular_filter(a: np.ndarray, first: int, neuro_freq_rad_s: float,
+                         neuro_damping: float) -> np.ndarray:
+    """Write the rider's second-order neuromuscular filter into state matrix ``a`` (in place)
+    and return its input column.
+
+    The filter's states are ``first`` (the torque, T) and ``first + 1`` (its rate):
+    :math:`T'' + 2\\zeta_{nm}\\omega_{nm} T' + \\omega_{nm}^2 T = \\omega_{nm}^2 u`
+    (Hess, Moore and Hubbard 2012).
+
+    Parameters
+    ----------
+    a
+        The plant's state matrix, square; rows ``first`` and ``first + 1`` are written.
+    first
+        Index of the filter's torque state.
+    neuro_freq_rad_s, neuro_damping
+        :math:`\\omega_{nm}` (rad/s) and :math:`\\zeta_{nm}`.
+
+    Returns
+    -------
+    numpy.ndarray
+        The input column ``b_u`` of the rider's command ``u`` (length ``a.shape[0]``).
+    """
+    wn, z = float(neuro_freq_rad_s), float(neuro_damping)
+    a[first, first + 1] = 1.0
+    a[first + 1, first] = -wn**2
+    a[first + 1, first + 1] = -2.0 * z * wn
+    b_u = np.zeros(a.shape[0])
+    b_u[first + 1] = wn**2
+    return b_u
+
+
 def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
           neuro_freq_rad_s: float = NEURO_FREQ_RAD_S,
           neuro_damping: float = NEURO_DAMPING, control_input: str = "steer") -> Plant:
@@ -120,12 +152,7 @@ def plant(model: LinearModel, geometry: Geometry, speed_m_s: float,
     a[4, 1] = v * cl / w
     a[4, 3] = c * cl / w
     a[5, 4] = v
-    wn, z = float(neuro_freq_rad_s), float(neuro_damping)
-    a[6, 7] = 1.0
-    a[7, 6] = -wn**2
-    a[7, 7] = -2.0 * z * wn
-    b_u = np.zeros(N_STATES)
-    b_u[7] = wn**2
+    b_u = neuromuscular_filter(a, 6, neuro_freq_rad_s, neuro_damping)
     b_f = np.zeros((N_STATES, 2))
     b_f[2:4, :] = minv
     cmat = np.zeros((5, N_STATES))
