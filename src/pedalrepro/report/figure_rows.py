@@ -24,7 +24,7 @@ from typing import Any
 import pandas as pd
 
 from .claims import Claim, claims
-from .html import _status_html, anchor
+from .html import anchor, status_span
 from .rows import summary
 
 _FIELD = re.compile(r"\{([^}]*)\}")
@@ -128,7 +128,7 @@ def status_html(rows: pd.DataFrame, page: str = "reproduction_report.html") -> s
         for status, n in summary(rows).items():
             if n:
                 first = rows[rows["status"] == status]["id"].iloc[0]
-                parts.append(f'<a href="{page}#{anchor(first)}">{n} {_status_html(status)}</a>')
+                parts.append(f'<a href="{page}#{anchor(first)}">{n} {status_span(status)}</a>')
         text = f"report rows ({len(rows)}): " + ", ".join(parts)
     return f' <span class="pedalrepro-status">{text}.</span>'
 

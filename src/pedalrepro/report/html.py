@@ -36,7 +36,15 @@ def anchor(claim_id: str) -> str:
     return "report-" + re.sub(r"[^A-Za-z0-9_-]", "-", str(claim_id))
 
 
-def _status_html(status: str) -> str:
+def status_span(status: str) -> str:
+    """A status as the book shows it: ``<span>`` in the status's colour, bold (the report page,
+    the figure captions' status lines).
+
+    Examples
+    --------
+    >>> status_span("differs")
+    '<span style="color:#c62828;font-weight:bold">differs</span>'
+    """
     import html
 
     return (f'<span style="color:{_COLOURS.get(status, "#000")};font-weight:bold">'
@@ -58,7 +66,7 @@ def rows_html(rows: pd.DataFrame, empty: str = "No report row yet.") -> str:
     body = []
     for r in rows.astype(str).to_dict("records"):
         cells = "".join(
-            f"<td>{_status_html(r[c]) if c == 'status' else html.escape(r[c])}</td>"
+            f"<td>{status_span(r[c]) if c == 'status' else html.escape(r[c])}</td>"
             for c in cols)
         rid = f' id="{anchor(r["id"])}"' if r.get("id") else ""
         body.append(f"<tr{rid}>{cells}</tr>")
@@ -84,7 +92,7 @@ def links_html(rows: pd.DataFrame, page: str = REPORT_PAGE,
 
     counts = summary(rows)
     text = (f"<p><strong>Report rows ({len(rows)}):</strong> "
-            + ", ".join(f"{n} {_status_html(s)}" for s, n in counts.items() if n) + ".")
+            + ", ".join(f"{n} {status_span(s)}" for s, n in counts.items() if n) + ".")
     findings = rows[rows["status"].isin([DIFFERS, NOT_REPRODUCIBLE])]
     if not findings.empty:
         text += " Differ or not reproducible here: " + "; ".join(
@@ -101,5 +109,5 @@ def legend_html() -> str:
     HTML list for the report page."""
     import html
 
-    items = "".join(f"<li>{_status_html(s)}: {html.escape(MEANING[s])}.</li>" for s in STATUSES)
+    items = "".join(f"<li>{status_span(s)}: {html.escape(MEANING[s])}.</li>" for s in STATUSES)
     return f'<ul class="pedalrepro-legend">{items}</ul>'
