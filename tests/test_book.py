@@ -538,13 +538,15 @@ def test_every_thesis_figure_in_the_built_book_shows_its_report_status(quick_wor
     """Each ``<figure data-figure-id>`` of a thesis figure or table on the built pages carries a
     status line, and the counts it gives are those of the build's report (Fig 3.9 and Table D.1
     checked against the report CSV)."""
-    import re
+    import pandas as pd
 
+    from pedalrepro import book
     from pedalrepro.report import figure_rows
 
     assert quick_workflow.returncode == 0, quick_workflow.log[-3000:]
     root = quick_workflow.results / "book" / "_build" / "html"
-    rep = pd_read_report(quick_workflow.results)
+    rep = pd.read_csv(quick_workflow.results / "tables" / "reproduction_report.csv", dtype=str,
+                      keep_default_na=False)
     table = figure_rows.by_figure(rep)
     shown = {}
     for page in sorted((root / "notebooks").glob("*.html")):
@@ -552,22 +554,10 @@ def test_every_thesis_figure_in_the_built_book_shows_its_report_status(quick_wor
         for m in re.finditer(r'<figure class="pedalrepro-figure" id="[^"]*" '
                              r'data-figure-id="([^"]+)">(.*?)</figure>', text, re.S):
             shown.setdefault(m.group(1), m.group(2))
-    thesis = {f for f in shown if book_label(f) != "beyond"}
+    thesis = {f for f in shown if book.thesis_label(f) != book.BEYOND_THESIS}
     assert len(thesis) >= 60, sorted(shown)
     missing = sorted(f for f in thesis if "pedalrepro-status" not in shown[f])
     assert not missing, f"figures without a report status: {missing}"
     for fid in ("fig_3_9", "table_d_1"):
         assert f"report rows ({len(table[fid])})" in shown[fid], shown[fid][-600:]
 
-
-def pd_read_report(results):
-    import pandas as pd
-
-    return pd.read_csv(results / "tables" / "reproduction_report.csv", dtype=str,
-                       keep_default_na=False)
-
-
-def book_label(fid):
-    from pedalrepro import book
-
-    return "beyond" if book.thesis_label(fid) == book.BEYOND_THESIS else "thesis"

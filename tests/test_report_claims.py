@@ -11,6 +11,7 @@ import pandas as pd
 import pytest
 
 from pedalrepro import evaluation, linear, report, response
+from pedalrepro.report import figure_rows
 
 WEAVE = 4.292382785185271  # meijaard2007.yaml: weave_speed_m_s
 
@@ -181,25 +182,14 @@ def test_published_values_resolve_through_ids():
         i=4) == 0.00020381613176774
 
 
-def _template_regex(template: str) -> re.Pattern:
-    parts = re.split(r"\{[^}]*\}", template)
-    return re.compile(".+".join(re.escape(p) for p in parts) + r"\Z")
-
-
 def test_pinned_ids_match_the_claims_one_to_one():
     """Every pinned id belongs to exactly one claim of claims.yaml, and no claim is dead."""
     expected = report.expected_status()
-    templates = {t: _template_regex(t) for t in report.claims()}
-    used = set()
-    for rid in expected["id"]:
-        hits = [t for t, rx in templates.items() if rx.match(rid)]
-        # the most specific template wins ('table_4_2.spectra.{key}.CF' also matches
-        # 'table_4_2.{key}.{system}'): the one with the most literal text, and only one
-        literal = {t: len(re.sub(r"\{[^}]*\}", "", t)) for t in hits}
-        hits = [t for t in hits if literal[t] == max(literal.values(), default=0)]
-        assert len(hits) == 1, (rid, hits)
-        used |= set(hits)
-    assert set(templates) == used, f"claims with no pinned row: {set(templates) - used}"
+    templates = set(report.claims())
+    # figure_rows.match: the most specific template wins ('table_4_2.spectra.{key}.CF' also
+    # matches 'table_4_2.{key}.{system}'), and a row matching none or two equally is refused
+    used = {figure_rows.match(rid)[0].id for rid in expected["id"]}
+    assert templates == used, f"claims with no pinned row: {set(templates) - used}"
     # every scalar claim of thesis_values.yaml the report checks is referenced by its id
     ids = {c["id"] for c in report.published_value("thesis_values.yaml:scalar_claims")}
     refs = {m for c in report.claims().values() if c.value
