@@ -40,6 +40,7 @@ rule validation_figure_data:
         per_run=table("validation_runs"),
         series=interm("mocap/series.npz"),
         source=interm("mocap/source.json"),
+        spectra=interm("closed_loop/spectra.csv"),
     output:
         interm("figures/validation.npz"),
     params:
@@ -51,7 +52,7 @@ rule validation_figure_data:
     benchmark:
         bench("validation_figure_data")
     message:
-        "Model maps and series of the example runs of Figs 4.2-4.10 and of the REAL run"
+        "Model maps and series of the example runs of Figs 4.2-4.10, the CF spectra's points and the REAL run"
     script:
         "scripts/validation_figure_data.py"
 

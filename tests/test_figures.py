@@ -226,6 +226,73 @@ def test_validation_figure_data_keeps_the_real_run_apart(tmp_path):
     figures.save(fig, tmp_path / "no_real_run.png")
 
 
+def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
+    """The measured CF spectra's points (rule closed_loop_spectra's table) join Figs 4.10 and
+    4.11: the figure data hold the measured nearest-bin amplitudes and the open-loop CF model at
+    the same speed and cadence, which equals the closed-loop comparison's open-loop column
+    (pedalrepro.rider.comparison solves the CF model through response.forcing, a second path
+    to the torque harmonics) to 1e-12; Fig 4.10 draws them as diamonds at (v, w) on both CF
+    maps, Fig 4.11 their RD (Eq 3.26); without spectra neither figure draws a diamond."""
+    import pandas as pd
+
+    from pedalrepro import figdata
+    from pedalrepro.figures import validation as fv
+    from pedalrepro.rider import comparison
+
+    rows = [dict(run_id=k + 1, system=s, speed_kmh=20.0, cadence_rpm=80.0,
+                 roll_measured_rad=0.01, steer_measured_rad=0.02, roll_model_rad=0.012,
+                 steer_model_rad=0.018, roll_rd_percent=20.0, steer_rd_percent=10.0,
+                 data_source="synthetic") for k, s in enumerate(("HS", "CF", "HR", "CR"))]
+    per_run = pd.DataFrame(rows)
+    t = np.arange(0.0, 20.0, 0.01)
+    series = {}
+    for r in rows:
+        crank = 2 * np.pi * r["cadence_rpm"] / 60 * t
+        series.update({f"{r['run_id']}_t_s": t, f"{r['run_id']}_crank_rad": crank,
+                       f"{r['run_id']}_roll_rad": 0.01 * np.sin(crank),
+                       f"{r['run_id']}_steer_rad": 0.02 * np.sin(crank)})
+    spectra = pd.DataFrame(dict(speed_kmh=[10.0, 25.0], cadence_rpm=[48.0, 64.08],
+                                roll_nearest_rad=[0.0033, 0.0031],
+                                steer_nearest_rad=[0.0057, 0.0137]))
+    v, w = np.array([2.0, 5.0, 8.0]), np.array([4.0, 7.0, 10.0])
+    out = figdata.validation(per_run, series, v, w, 6, "synthetic", spectra)
+    assert out["spectra_roll_measured_rad"].tolist() == [0.0033, 0.0031]
+    other = comparison.model_amplitudes("CF", spectra.speed_kmh / 3.6, spectra.cadence_rpm)
+    for q in ("roll", "steer"):
+        np.testing.assert_allclose(out[f"spectra_{q}_model_rad"], other[f"{q}_open"],
+                                   rtol=1e-12)
+    source = {"data_source": "synthetic", "reason": "stand-in"}
+    with figures.style():
+        f10 = fv.draw_fig_4_10(per_run, series, source, out)
+        f11 = fv.draw_fig_4_11(per_run, series, source, out)
+    cf_axes = [ax for ax in f10.axes if ax.get_title().startswith("CF ")]
+    assert len(cf_axes) == 2
+    for ax in cf_axes:
+        diamonds = [c for c in ax.collections if c.get_label() == fv.SPECTRA_LABEL]
+        assert len(diamonds) == 1
+        np.testing.assert_allclose(diamonds[0].get_offsets(),
+                                   np.c_[spectra.speed_kmh / 3.6,
+                                         spectra.cadence_rpm * np.pi / 30], rtol=1e-12)
+    for ax, q in zip(f11.axes[:2], ("roll", "steer"), strict=True):
+        line = next(ln for ln in ax.lines if ln.get_label() == fv.SPECTRA_LABEL)
+        measured = spectra[f"{q}_nearest_rad"].to_numpy()
+        rd = np.abs(measured - out[f"spectra_{q}_model_rad"]) / measured * 100
+        np.testing.assert_allclose(line.get_ydata(), rd, rtol=1e-12)
+    assert "diamonds" in f10.get_suptitle() and "real measurements" in f11.get_suptitle()
+    figures.save(f10, tmp_path / "fig_4_10.png")
+    figures.save(f11, tmp_path / "fig_4_11.png")
+    none = figdata.validation(per_run, series, v, w, 6, "synthetic", spectra.iloc[:0])
+    assert not any(k.startswith("spectra_") for k in none)
+    with figures.style():
+        f10 = fv.draw_fig_4_10(per_run, series, source, none)
+        f11 = fv.draw_fig_4_11(per_run, series, source, none)
+    assert not any(c.get_label() == fv.SPECTRA_LABEL for ax in f10.axes
+                   for c in ax.collections)
+    assert not any(ln.get_label() == fv.SPECTRA_LABEL for ax in f11.axes for ln in ax.lines)
+    assert "diamonds" not in f10.get_suptitle()
+    plt.close("all")
+
+
 def test_overlapping_colour_bars_are_found():
     """Two colour bars on one spot (the periodic maps' fault, issue 25) are found from the drawn
     bounding boxes; two side by side, each beside its own axes, are not."""

@@ -11,6 +11,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 from required import REAL, required
@@ -126,6 +127,33 @@ def test_report_statuses_are_pinned(quick_workflow):
         f"    pedalrepro report-status --profile quick --update {path}\n"
         "and commit tests/expected_status.csv in the same commit as the change, giving the "
         "reason for every changed status in the commit message.")
+
+
+def test_figs_4_10_4_11_cf_points_equal_the_closed_loop_comparison(quick_workflow):
+    """Figs 4.10-4.11's CF points from the measured spectra (the figure data of rule
+    validation_figure_data) are the closed-loop comparison's CF spectra rows
+    (closed_loop_validation.csv, Table 4.2's CF column): the same measured amplitude and the
+    same open-loop model, to the table's 6 significant digits (5e-6 relative); a build without
+    the spectra has neither."""
+    assert quick_workflow.returncode == 0
+    res = quick_workflow.results
+    with np.load(res / "intermediate" / "figures" / "validation.npz") as d:
+        fig = {k: d[k] for k in d.files if k.startswith("spectra_")}
+    table = pd.read_csv(res / "tables" / "closed_loop_validation.csv")
+    rows = table[table.source.str.startswith("CF spectra")]
+    if not has_spectra():
+        if required(REAL):
+            pytest.fail(f"${DATA_DIR_ENV} does not hold the measured spectra ({REAL}=1)")
+        assert not fig and rows.empty
+        return
+    assert len(fig["spectra_speed_kmh"]) == 9  # 2, 3, 4, 5, 10, 15, 20, 25, 30 km/h
+    for q in ("roll", "steer"):
+        sub = rows[rows.quantity == q].sort_values("speed_kmh")
+        np.testing.assert_allclose(sub.speed_kmh, fig["spectra_speed_kmh"], rtol=5e-6)
+        np.testing.assert_allclose(sub.measured_rad, fig[f"spectra_{q}_measured_rad"],
+                                   rtol=5e-6)
+        np.testing.assert_allclose(sub.open_loop_rad, fig[f"spectra_{q}_model_rad"],
+                                   rtol=5e-6)
 
 
 def test_book_is_offline(quick_workflow):

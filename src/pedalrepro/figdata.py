@@ -144,7 +144,7 @@ def write_linear(outputs: Mapping[str, str], lin: Mapping) -> None:
 
 def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
                omega_rad_s: np.ndarray, examples_per_system: int,
-               data_source: str | None = None) -> dict[str, np.ndarray]:
+               data_source: str | None = None, spectra=None) -> dict[str, np.ndarray]:
     """Figs 4.2-4.10: the particular-solution amplitude maps of the four systems on the given
     grid and the model's steady-state roll and steer phase-locked to the measured crank angle of
     each system's example runs (:func:`pedalrepro.validation.example_runs`), and the REAL run's
@@ -158,7 +158,17 @@ def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
     ``<S>_run_ids`` and ``<S>_<k>_roll_rad``, ``<S>_<k>_steer_rad`` for example ``k``; when the
     build has a real run, ``real_run_id``, ``real_system``, ``real_speed_kmh``,
     ``real_cadence_rpm``, ``real_t_s``, ``real_roll_rad``, ``real_steer_rad``,
-    ``real_model_roll_rad``, ``real_model_steer_rad``."""
+    ``real_model_roll_rad``, ``real_model_steer_rad``.
+
+    ``spectra``: the measured closed-loop CF spectra's cadence amplitudes (the rule
+    ``closed_loop_spectra``'s table, :func:`pedalrepro.mocap.spectra.cadence_table`; None or
+    empty: the build has none). Their points join Figs 4.10 and 4.11 as the CF system's
+    published measurements (Sec 4.2): keys ``spectra_speed_kmh``, ``spectra_cadence_rpm``,
+    ``spectra_roll_measured_rad``, ``spectra_steer_measured_rad`` (the nearest bin, as the thesis
+    reads a spectrum) and the open-loop CF model's particular-solution amplitudes at the same
+    speed and cadence, ``spectra_roll_model_rad``, ``spectra_steer_model_rad``: the open-loop
+    column of ``closed_loop_validation.csv`` (:func:`pedalrepro.rider.comparison.validation_table`
+    solves the same model at the same points), absent when there are no spectra."""
     from . import params
     from . import validation as val
 
@@ -177,20 +187,32 @@ def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
     real = val.real_example(per_run, series)
     if real is not None:
         out.update(real)
+    if spectra is not None and len(spectra):
+        kmh = spectra.speed_kmh.to_numpy(float)
+        rpm = spectra.cadence_rpm.to_numpy(float)
+        roll, steer = val.model_amplitudes("CF", kmh / 3.6, rpm * np.pi / 30)
+        out.update(spectra_speed_kmh=kmh, spectra_cadence_rpm=rpm,
+                   spectra_roll_measured_rad=spectra.roll_nearest_rad.to_numpy(float),
+                   spectra_steer_measured_rad=spectra.steer_nearest_rad.to_numpy(float),
+                   spectra_roll_model_rad=roll, spectra_steer_model_rad=steer)
     return out
 
 
 def write_validation(per_run_csv: str, series_npz: str, out_npz: str, lin: Mapping,
-                     examples_per_system: int, source_json: str | None = None) -> None:
+                     examples_per_system: int, source_json: str | None = None,
+                     spectra_csv: str | None = None) -> None:
     """Read the per-run table and the measured series, write :func:`validation`'s arrays on
     the PS grid of ``lin`` from one step (no zero speed or cadence); ``source_json``: the
-    extraction's ``source.json`` (its ``data_source`` picks the example runs)."""
+    extraction's ``source.json`` (its ``data_source`` picks the example runs); ``spectra_csv``:
+    the measured CF spectra's cadence table (header only when the build has none)."""
     import json
 
     import pandas as pd
 
     ds = None if source_json is None else json.loads(open(source_json).read())["data_source"]
+    spectra = None if spectra_csv is None else pd.read_csv(spectra_csv)
     v, w = (g[1:] for g in ps_grid_of(lin))
     with np.load(series_npz, allow_pickle=False) as series:
-        data = validation(pd.read_csv(per_run_csv), series, v, w, examples_per_system, ds)
+        data = validation(pd.read_csv(per_run_csv), series, v, w, examples_per_system, ds,
+                          spectra)
     np.savez_compressed(out_npz, **data)

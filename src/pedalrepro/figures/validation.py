@@ -9,6 +9,9 @@ the rule ``validation_figure_data``, :func:`pedalrepro.figdata.validation`). Mod
 their chapter-3 colours (:mod:`pedalrepro.figures.palette`). Figures 4.2-4.11 show only the
 build's main source (``source.json``); the REAL public-subset run has its own,
 non-thesis panel, ``real_run_panel`` (:func:`draw_real_run_panel`), never pooled with them.
+Figs 4.10 and 4.11 also show the CF system's published measurements, Moore's closed-loop
+spectra (:mod:`pedalrepro.mocap.spectra`), as diamonds labelled "measured (published
+spectra)": real data in every build, so a SYNTHETIC stamp says they are not part of it.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from .. import spectral
+from ..relative_difference import relative_difference
 from .page import synthetic_stamp
 from .palette import MEASURED_COLOUR, model_colour
 
@@ -148,25 +152,79 @@ def frequency_domain(system: str, examples: Sequence[ExampleRun], ps: PSMap,
     return fig
 
 
-def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: str = ""
-             ) -> Figure:
+#: Label and marker of the measured closed-loop CF spectra's points in Figs 4.10-4.11.
+SPECTRA_LABEL = "CF: measured (published spectra)"
+SPECTRA_MARKER = "D"
+
+
+@dataclass
+class SpectraPoints:
+    """The measured CF spectra's cadence amplitudes and the open-loop CF model at the same
+    speeds and cadences (:func:`pedalrepro.figdata.validation`, keys ``spectra_*``)."""
+
+    speed_kmh: np.ndarray
+    cadence_rpm: np.ndarray
+    roll_measured_rad: np.ndarray
+    steer_measured_rad: np.ndarray
+    roll_model_rad: np.ndarray
+    steer_model_rad: np.ndarray
+
+    @classmethod
+    def from_arrays(cls, model: dict) -> SpectraPoints | None:
+        """The points in ``model`` (the figure-data file), or None when the build has none."""
+        if "spectra_speed_kmh" not in model:
+            return None
+        return cls(*(np.asarray(model[f"spectra_{k}"], float) for k in (
+            "speed_kmh", "cadence_rpm", "roll_measured_rad", "steer_measured_rad",
+            "roll_model_rad", "steer_model_rad")))
+
+    def measured(self, q: str) -> np.ndarray:
+        return self.roll_measured_rad if q == "roll" else self.steer_measured_rad
+
+    def model(self, q: str) -> np.ndarray:
+        return self.roll_model_rad if q == "roll" else self.steer_model_rad
+
+    def rd_percent(self, q: str) -> np.ndarray:
+        """Relative difference of the open-loop model from the measurement (Eq 3.26)."""
+        return relative_difference(self.measured(q), self.model(q))
+
+
+def _spectra_note(reason: str, spectra: SpectraPoints | None) -> str:
+    """The SYNTHETIC stamp's reason, saying the diamonds are real measurements."""
+    if reason and spectra is not None:
+        return (f"{reason}; the diamonds ({SPECTRA_LABEL}) are real measurements, not the "
+                "stand-in")
+    return reason
+
+
+def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: str = "",
+             spectra: SpectraPoints | None = None, runs_label: str = "runs") -> Figure:
     """Fig 4.10: every run as a circle on the particular-solution map of its system; fill =
-    measured amplitude, edge = model / measured ratio."""
+    measured amplitude, edge = model / measured ratio. ``spectra``: the measured CF spectra's
+    points, drawn as diamonds on the CF maps with the same fill and edge scales."""
     systems = list(maps)
     fig, axes = plt.subplots(len(systems), 2, figsize=(7.0, 1.6 + 2.2 * len(systems)),
                              squeeze=False, sharex=True, sharey=True, layout="constrained")
     norm = plt.Normalize(-3, -1)
     rnorm = plt.Normalize(-1, 1)
+
+    def points(ax, v_m_s, w_rad_s, measured, model, marker, label):
+        return ax.scatter(v_m_s, w_rad_s, c=np.log10(measured), cmap="magma", norm=norm,
+                          s=60, marker=marker, linewidths=2.0, label=label,
+                          edgecolors=plt.cm.coolwarm(rnorm(np.log10(model / measured))))
+
     for j, system in enumerate(systems):
         sub = per_run[per_run.system == system]
         for i, q in enumerate(("roll", "steer")):
             ax = axes[j, i]
             _contour(ax, maps[system], q)
-            sc = ax.scatter(sub.speed_kmh / 3.6, sub.cadence_rpm * np.pi / 30,
-                            c=np.log10(sub[f"{q}_measured_rad"]), cmap="magma", norm=norm,
-                            s=60, linewidths=2.0,
-                            edgecolors=plt.cm.coolwarm(rnorm(np.log10(
-                                sub[f"{q}_model_rad"] / sub[f"{q}_measured_rad"]))))
+            sc = points(ax, sub.speed_kmh / 3.6, sub.cadence_rpm * np.pi / 30,
+                        sub[f"{q}_measured_rad"], sub[f"{q}_model_rad"], "o", runs_label)
+            if system == "CF" and spectra is not None:
+                points(ax, spectra.speed_kmh / 3.6, spectra.cadence_rpm * np.pi / 30,
+                       spectra.measured(q), spectra.model(q), SPECTRA_MARKER, SPECTRA_LABEL)
+                if i == 0:
+                    ax.legend(loc="upper left", fontsize=8, framealpha=0.8)
             ax.set_title(f"{system} {q}", fontsize=9)
             ax.set_xlabel("")
             if i:
@@ -180,23 +238,28 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
             (plt.cm.ScalarMappable(rnorm, "coolwarm"), "edge: log$_{10}$(model / measured)")):
         fig.colorbar(mappable, ax=axes, location="bottom", shrink=0.8, aspect=40, pad=0.01,
                      label=label)
-    _stamp(fig, synthetic_reason)
+    _stamp(fig, _spectra_note(synthetic_reason, spectra))
     return fig
 
 
-def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "") -> Figure:
-    """Fig 4.11: relative difference model vs measurement of every run, per system."""
+def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "",
+             spectra: SpectraPoints | None = None) -> Figure:
+    """Fig 4.11: relative difference model vs measurement of every run, per system;
+    ``spectra``: the open-loop CF model against the measured CF spectra, as diamonds."""
     fig, axes = plt.subplots(1, 2, figsize=(7.0, 3.6), sharey=True, layout="constrained")
     for q, ax in zip(("roll", "steer"), axes, strict=True):
         for system, sub in per_run.groupby("system", sort=False):
             ax.plot(sub.speed_kmh, sub[f"{q}_rd_percent"], "o", label=system,
                     color=model_colour(str(system)))
+        if spectra is not None:
+            ax.plot(spectra.speed_kmh, spectra.rd_percent(q), SPECTRA_MARKER, mfc="none",
+                    mew=1.5, color=model_colour("CF"), label=SPECTRA_LABEL)
         ax.set_yscale("log")
         ax.set_xlabel("belt speed (km/h)")
         ax.set_title(f"{q}: RD model vs measurement")
     axes[0].set_ylabel("RD (%)")
     axes[1].legend(fontsize=8)
-    _stamp(fig, synthetic_reason)
+    _stamp(fig, _spectra_note(synthetic_reason, spectra))
     return fig
 
 
@@ -249,14 +312,19 @@ def draw_frequency_domain(per_run, series, source, model, system: str) -> Figure
     return frequency_domain(system, ex, _maps(model)[system], fs, _reason(source))
 
 
+def _runs_label(source: dict) -> str:
+    return "treadmill runs" if source["data_source"] == "figshare" else "SYNTHETIC runs"
+
+
 def draw_fig_4_10(per_run, series, source, model) -> Figure:
-    """Fig 4.10 from the registry's files."""
-    return fig_4_10(_main(per_run, source), _maps(model), _reason(source))
+    """Fig 4.10 from the registry's files (the CF spectra's points from the figure data)."""
+    return fig_4_10(_main(per_run, source), _maps(model), _reason(source),
+                    SpectraPoints.from_arrays(model), _runs_label(source))
 
 
 def draw_fig_4_11(per_run, series, source, model) -> Figure:
-    """Fig 4.11 from the registry's files."""
-    return fig_4_11(_main(per_run, source), _reason(source))
+    """Fig 4.11 from the registry's files (the CF spectra's points from the figure data)."""
+    return fig_4_11(_main(per_run, source), _reason(source), SpectraPoints.from_arrays(model))
 
 
 def real_run_panel(run: ExampleRun, system: str, data_label: str, window_s: float = 10.0
