@@ -12,7 +12,7 @@ import pytest
 
 from pedalrepro import params
 from pedalrepro.nonlinear import bodies, model, models
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 
 NAMES = ("M", "C1", "K0", "K2")
 

@@ -9,7 +9,7 @@ from required import CC, skip_unless_required
 
 from pedalrepro import params, paths
 from pedalrepro.nonlinear import codegen, model
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.simulate import simulate
 
 

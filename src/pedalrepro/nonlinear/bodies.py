@@ -25,7 +25,7 @@ from .assembly import (
     rider_drop_m,
 )
 from .leg_bodies import leg_revolution
-from .numeric import moore_parameters
+from .nonlinear_model import moore_parameters
 from .prescribed import FourierSpec
 from .rigid import body_part, subtract, with_body
 from .settings import has_arms

@@ -22,7 +22,7 @@ from .calibration import (
     whipple_matrices,
 )
 from .models import nt_model
-from .numeric import benchmark_matrices
+from .nonlinear_model import benchmark_matrices
 from .settings import model_spec
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from .. import spectral
 from ..integrator import Simulation
 from .models import np_model, nt_model
-from .numeric import NonlinearModel
+from .nonlinear_model import NonlinearModel
 from .simulate import simulate
 
 METHODS: tuple[str, ...] = ("NT", "NP")

@@ -110,10 +110,10 @@ class _Adapter:
     @cache
     def own_linearisation(name: str) -> LinearModel:
         """Eq 3.1 matrices of the NT model linearised about upright motion (complex step)."""
-        from ..nonlinear import numeric
+        from ..nonlinear import nonlinear_model
 
         nl = _Adapter.nt_model(name)
-        mats = numeric.benchmark_matrices(nl)
+        mats = nonlinear_model.benchmark_matrices(nl)
         return LinearModel(f"{name} (own linearisation)", mats["M"], mats["C1"], mats["K0"],
                            mats["K2"], float(nl.bench["g"]))
 

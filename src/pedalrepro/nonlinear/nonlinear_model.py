@@ -1,4 +1,5 @@
-"""Numeric non-linear bicycle-rider model: state derivative, energy, linearisation.
+"""The numeric non-linear bicycle-rider model, :class:`NonlinearModel`: state derivative,
+energy, linearisation.
 
 State (6): ``x = [roll, pitch, steer, roll rate, rear wheel rate, steer rate]`` (rad, rad/s), the
 three independent coordinates that enter the flat-ground dynamics and the three independent
