@@ -34,6 +34,12 @@ from . import arms as _arms
 from . import bicycle_data
 from .rigid import RigidPart
 
+__all__ = [
+    "DESIGN_KEYS", "FREE_PLANE_KEYS", "ArmDesign", "yeadon_total_mass_kg", "nominal_design",
+    "elbow_direction_rad", "plane_normal", "loop", "hands", "removed_segments", "field_names",
+    "particle_steer_term",
+]
+
 #: Calibratable fields of :class:`ArmDesign` (CF: grip straight ahead of the shoulder, arms in
 #: the sagittal plane), in order.
 DESIGN_KEYS: tuple[str, ...] = ("shoulder_x", "shoulder_y", "shoulder_z", "grip_x", "grip_z",

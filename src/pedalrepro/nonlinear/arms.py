@@ -43,6 +43,12 @@ from . import bicycle_data
 from . import model as symbolic
 from .rigid import RigidPart, combine, point_mass
 
+__all__ = [
+    "YeadonArms", "yeadon_arms", "rod_particles", "ArmLoop", "grip_at_steer", "flexion_axis",
+    "arm_loop", "moving_particles", "STEER_REACH_FRACTION", "steer_reach_rad", "closure_margin_m2",
+    "fixed_parts", "symbol_values", "nominal_posture",
+]
+
 #: Yeadon -> bicycle (benchmark) axes: BicycleParameters ``rider.yeadon_vec_to_bicycle_vec``.
 _YEADON_TO_BIKE = np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
 

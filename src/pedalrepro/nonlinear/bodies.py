@@ -22,7 +22,7 @@ from .assembly import (
     assemble,
     assembly,
     leg_geometry,
-    rider_drop_m,
+    rider_drop_m,  # noqa: F401  (re-exported from .assembly; not part of this module's __all__)
 )
 from .leg_bodies import leg_revolution
 from .nonlinear_model import moore_parameters
@@ -30,7 +30,10 @@ from .prescribed import FourierSpec
 from .rigid import body_part, subtract, with_body
 from .settings import has_arms
 
-__all__ = ["REVOLUTION_SAMPLES", "leg_geometry", "rider_drop_m"]
+__all__ = [
+    "bottom_bracket_m", "calibration_of", "model_assembly", "clear_caches", "bicycle_rider",
+    "model_bodies", "arm_loop", "steer_limit_rad", "leg_bodies", "without_legs", "legs_fixed",
+]
 
 
 def bottom_bracket_m(model: str) -> np.ndarray:

@@ -36,6 +36,15 @@ from . import assembly as asmb
 from .rigid import RigidPart, body_part
 from .settings import has_arms, model_options, model_spec, thesis_inputs
 
+__all__ = [
+    "NAMES", "FRAME_KEYS", "FREE_ENTRIES", "whipple_matrices", "max_relative_difference",
+    "frame_vector", "frame_part", "scales", "nearest_valid_iyy", "validity", "Calibration",
+    "moments", "from_moments", "Solution", "solve", "steer_stiffness_term", "arm_term",
+    "static_stiffness", "arm_half_widths", "elbow_flexion_rad", "particle_arm_term",
+    "arm_closure_margin_m2", "calibrate_arms", "to_dict", "from_dict", "save", "use_file",
+    "forget_files", "calibrate", "solve_model",
+]
+
 #: Matrices of the linearised roll-steer equations (Eq 3.1).
 NAMES: tuple[str, ...] = ("M", "C1", "K0", "K2")
 #: Calibrated quantities of each frame (benchmark frame; IByy/IHyy do not enter Eq 3.1).

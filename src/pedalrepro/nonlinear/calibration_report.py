@@ -25,6 +25,8 @@ from .models import nt_model
 from .nonlinear_model import benchmark_matrices
 from .settings import model_spec
 
+__all__ = ["verify", "UNITS", "table", "checks", "arm_checks", "write_results"]
+
 
 def verify(model: str) -> float:
     """Largest relative difference of the NT model's numerical linearisation from Appendix B."""

@@ -13,6 +13,8 @@ import ctypes
 
 import numpy as np
 
+__all__ = ["ForcingStruct", "fill_forcing"]
+
 
 class ForcingStruct(ctypes.Structure):
     """``forcing_t`` of ``forcing.h``."""

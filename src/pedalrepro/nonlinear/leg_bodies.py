@@ -17,6 +17,8 @@ from .. import legs
 from . import model as symbolic
 from .rigid import RigidPart
 
+__all__ = ["LegRevolution", "leg_revolution"]
+
 
 @dataclass(frozen=True)
 class LegRevolution:

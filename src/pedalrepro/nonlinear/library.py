@@ -19,6 +19,8 @@ from ..integrator import build
 from . import codegen
 from . import model as symbolic
 
+__all__ = ["MODEL_LIBRARY_C", "DATA_FILES", "compiled_library", "load_library"]
+
 #: Entry file of the simulation library (in :data:`pedalrepro.integrator.build.CSRC`).
 MODEL_LIBRARY_C = "model_library.c"
 #: Its hand-written sources besides the integrator's (change tracking).

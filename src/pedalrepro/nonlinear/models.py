@@ -11,6 +11,8 @@ from . import bodies
 from .nonlinear_model import NonlinearModel, benchmark_matrices
 from .settings import model_options, model_spec
 
+__all__ = ["nt_model", "np_model", "original_seat_model"]
+
 
 def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:
     """The NT model: the legs fixed to the frame at crank angle 0 (Sec 3.1.1.3).

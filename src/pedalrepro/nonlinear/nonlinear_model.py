@@ -30,6 +30,11 @@ import numpy as np
 from . import codegen, library, model
 from .model import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
 
+__all__ = [
+    "ZERO_SPEC", "moore_parameters", "correction_parameters", "NonlinearModel",
+    "benchmark_matrices",
+]
+
 ZERO_SPEC: Callable[[float], np.ndarray] | None = None
 
 

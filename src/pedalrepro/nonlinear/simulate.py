@@ -21,6 +21,8 @@ from ..integrator import CompiledRhs, Simulation, harmonic_torque, integrate
 from .forcing import ForcingStruct, fill_forcing
 from .nonlinear_model import NonlinearModel
 
+__all__ = ["ForcedModel", "sample_times", "simulate"]
+
 
 @dataclass
 class ForcedModel:

@@ -20,6 +20,10 @@ from .models import np_model, nt_model
 from .nonlinear_model import NonlinearModel
 from .simulate import simulate
 
+__all__ = [
+    "METHODS", "RunSettings", "run", "model_for", "amplitudes", "time_histories", "grid_runs",
+]
+
 METHODS: tuple[str, ...] = ("NT", "NP")
 
 

@@ -46,6 +46,12 @@ from .. import linear, response
 from ..integrator import build
 from ..params import LinearModel
 
+__all__ = [
+    "DATA_FILES", "SPEED_RANGE_M_S", "CADENCE_RANGE_RPM", "METHODS", "LATERAL",
+    "LINEAR_TORQUE_SCALE", "ConvergenceError", "PERIODIC_LIBRARY_C", "own_linearisation", "Orbit",
+    "OrbitSolver", "orbit",
+]
+
 #: The hand-written sources of the periodic-orbit library besides those of the model's
 #: (change tracking).
 DATA_FILES: tuple[str, ...] = ("src/pedalrepro/csrc/periodic_library.c",
