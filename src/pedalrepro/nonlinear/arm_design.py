@@ -7,7 +7,7 @@ elbows, ball joints at the hands. With the grip straight ahead of the shoulder t
 planar: the shoulder flexes about the trunk's lateral axis (SymBRiM ``FlexRotLeftShoulder``
 literally) and the elbow hinges in the shoulder's sagittal plane (the branch with the elbow
 below the shoulder-grip line: flexed arms, elbows down), so
-:func:`pedalrepro.nonlinear.model.arm_loop_elbow` holds with ``normal = (0, 1, 0)``.
+:func:`pedalrepro.nonlinear.symbolic.arm_loop_elbow` holds with ``normal = (0, 1, 0)``.
 
 :class:`ArmDesign` holds the values the loop is built from (benchmark frame, rider at the
 original seat height): shoulder centre, grip (its lateral position = the shoulder's), segment

@@ -18,8 +18,7 @@ from functools import cache
 import numpy as np
 
 from .. import legs, params, paths
-from . import arm_design, arms, bicycle_data
-from . import model as symbolic
+from . import arm_design, arms, bicycle_data, symbolic
 from .leg_bodies import leg_revolution
 from .rigid import RigidPart, body_part, combine, parallel_axis, subtract, with_body
 from .settings import has_arms, model_spec, settings, thesis_inputs

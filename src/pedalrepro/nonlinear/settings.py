@@ -9,7 +9,7 @@ from __future__ import annotations
 from functools import cache
 
 from .. import params, paths
-from . import model as symbolic
+from . import symbolic
 
 __all__ = [
     "NONLINEAR_MODELS", "settings", "thesis_inputs", "model_spec", "has_arms", "model_options",
