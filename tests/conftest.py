@@ -100,12 +100,12 @@ def nonlinear_cache(request):
     printing each one; returns the cache folder. A warm cache costs file look-ups only."""
     import time
 
-    from pedalrepro.nonlinear import codegen, library, model
+    from pedalrepro.nonlinear import codegen, library, symbolic
 
     capture = request.config.pluginmanager.getplugin("capturemanager")
     for legs in (False, True):
         for arms in (False, True):
-            options = model.ModelOptions(legs=legs, arms=arms)
+            options = symbolic.ModelOptions(legs=legs, arms=arms)
             key = codegen.cache_key(options)
             folder = codegen.cache_dir()
             if (folder / f"{key}.py").exists() and any(folder.glob(f"{key}.*.so")):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pedalrepro.nonlinear import arms, bodies, models, rigid
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.settings import model_options
 from pedalrepro.nonlinear.simulate import simulate
 

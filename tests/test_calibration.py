@@ -16,7 +16,7 @@ import pytest
 from pedalrepro import params
 from pedalrepro.nonlinear import assembly, bodies, calibration_report, models, settings
 from pedalrepro.nonlinear import calibration as cal
-from pedalrepro.nonlinear.numeric import benchmark_matrices
+from pedalrepro.nonlinear.nonlinear_model import benchmark_matrices
 from pedalrepro.nonlinear.rigid import body_part
 from pedalrepro.nonlinear.simulate import simulate
 

@@ -1,5 +1,5 @@
 """Import structure of ``src/pedalrepro`` (issue 10 part 3): no cycles, no private helpers
-shared across modules.
+shared across modules, and an ``__all__`` in every public module (issue 26).
 
 A static scan (``ast``) of every module, imports inside functions included: an import hidden in a
 function body still makes two modules depend on each other, it only defers the failure. The
@@ -11,6 +11,7 @@ package's ``__init__`` is an edge to the package module, not to every submodule.
 from __future__ import annotations
 
 import ast
+import importlib
 from pathlib import Path
 
 import pytest
@@ -119,7 +120,7 @@ def test_scanner_finds_a_cycle_through_a_function_level_import():
 def test_no_import_cycles_in_pedalrepro():
     edges = graph()
     assert len(edges) > 30  # the scan found the package's modules
-    assert "pedalrepro.nonlinear.numeric" in edges["pedalrepro.nonlinear.sweep"] | {
+    assert "pedalrepro.nonlinear.nonlinear_model" in edges["pedalrepro.nonlinear.sweep"] | {
         d for m in edges["pedalrepro.nonlinear.sweep"] for d in edges[m]}
     found = cycles(edges)
     assert not found, "import cycles (imports inside functions included): " + "; ".join(
@@ -182,3 +183,93 @@ def test_sweep_jobs_import_no_scipy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.strip()
     assert out == "[]"
+
+
+def _bound_names(tree: ast.Module) -> tuple[list[str], list[str]]:
+    """(defined, imported): the public names a module binds at top level. Defined: functions,
+    classes and assignment targets (an annotation without a value binds nothing); imported:
+    ``import``/``from ... import`` aliases (``from __future__`` excluded). ``if TYPE_CHECKING``
+    blocks bind nothing at run time and are not read."""
+    defined: list[str] = []
+    imported: list[str] = []
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            defined.append(node.name)
+        elif isinstance(node, ast.Assign):
+            defined += [n.id for t in node.targets for n in ast.walk(t) if isinstance(n, ast.Name)]
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            defined += [n.id for n in ast.walk(node.target) if isinstance(n, ast.Name)]
+        elif isinstance(node, ast.ImportFrom) and node.module != "__future__":
+            imported += [a.asname or a.name for a in node.names]
+        elif isinstance(node, ast.Import):
+            imported += [(a.asname or a.name).split(".")[0] for a in node.names]
+    public = [n for n in dict.fromkeys(defined) if not n.startswith("_")]
+    return public, [n for n in dict.fromkeys(imported) if not n.startswith("_")]
+
+
+def _declared_all(tree: ast.Module) -> list[str] | None:
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+                isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets):
+            return ast.literal_eval(node.value)
+    return None
+
+
+def public_modules() -> dict[str, Path]:
+    """Modules that must declare ``__all__``: every module whose name does not start with ``_``
+    (the set of tests/test_book.py's API check), and each package ``__init__`` that binds a
+    public name (its re-exports); a docstring-only ``__init__`` (``pedalrepro``,
+    ``pedalrepro.nonlinear``, ``pedalrepro.rider``) has no API of its own."""
+    out = {}
+    for name, path in modules().items():
+        rel = path.relative_to(SRC / PACKAGE)
+        if any(p.startswith("_") for p in rel.parts if p != "__init__.py"):
+            continue
+        if path.name == "__init__.py" and not any(_bound_names(ast.parse(path.read_text()))):
+            continue
+        out[name] = path
+    return out
+
+
+def test_every_public_module_is_checked():
+    mods = public_modules()
+    assert len(mods) >= 85  # the scan found the package's modules
+    assert {"pedalrepro.figures", "pedalrepro.nonlinear.symbolic",
+            "pedalrepro.nonlinear.nonlinear_model"} <= set(mods)
+    assert not {"pedalrepro", "pedalrepro.nonlinear", "pedalrepro.rider"} & set(mods)
+
+
+@pytest.mark.parametrize("name", sorted(public_modules()))
+def test_public_module_declares_its_api(name):
+    """``__all__`` is a literal list of distinct public names, each bound in the module
+    (``from module import *`` binds exactly them), and it is complete:
+
+    * a module lists every public name it *defines* at top level -- function, class or
+      assignment (constant, type alias, ``DATA_FILES``) -- and nothing it imports: a re-export
+      belongs to a package ``__init__``, and since the book's autodoc documents every name of
+      ``__all__``, a listed import would be documented twice. A name is private by its leading
+      underscore, never by being left out of ``__all__``.
+    * a package ``__init__`` lists every public name it binds: its re-exports.
+
+    The order is free; the book's API pages (``autodoc_member_order: bysource``) follow it, so
+    modules keep their source order.
+    """
+    path = public_modules()[name]
+    tree = ast.parse(path.read_text(), str(path))
+    declared = _declared_all(tree)
+    assert declared is not None, f"{path.relative_to(SRC)} has no __all__"
+    assert isinstance(declared, list | tuple) and all(isinstance(n, str) for n in declared)
+    assert len(declared) == len(set(declared)), f"duplicates in __all__ of {name}"
+    assert not [n for n in declared if n.startswith("_")], f"private names in __all__ of {name}"
+    defined, imported = _bound_names(tree)
+    expected = set(defined) | (set(imported) if path.name == "__init__.py" else set())
+    assert not expected - set(declared), \
+        f"{name}: public names missing from __all__: {sorted(expected - set(declared))}"
+    assert not set(declared) - expected, (
+        f"{name}: __all__ lists names the module does not define (imports go in a package "
+        f"__init__): {sorted(set(declared) - expected)}")
+    module = importlib.import_module(name)
+    assert list(module.__all__) == list(declared)
+    star: dict = {}
+    exec(f"from {name} import *", star)  # raises on a name the module lacks
+    assert set(star) - {"__builtins__"} == set(declared)

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from pedalrepro import params
-from pedalrepro.nonlinear import bodies, model, models
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear import bodies, models, symbolic
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 
 NAMES = ("M", "C1", "K0", "K2")
 
@@ -36,7 +36,7 @@ def test_correction_adds_exactly_to_the_benchmark():
 def test_correction_parameters_are_the_sixteen_entries():
     """The optional linear correction (NonlinearModel(linear_correction=...), zero in every
     thesis model since HS has its own arm loops) has one parameter per matrix entry."""
-    assert set(model.correction_parameter_names()) == {
+    assert set(symbolic.correction_parameter_names()) == {
         f"lc_{k}_{i}{j}" for k in NAMES for i in range(2) for j in range(2)}
     assert not any(v != 0.0 for n, v in zip(models.nt_model("HR")._code.PARAMS,
                                            models.nt_model("HR").p, strict=True)

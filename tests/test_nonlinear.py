@@ -8,8 +8,8 @@ import yaml
 from required import CC, skip_unless_required
 
 from pedalrepro import params, paths
-from pedalrepro.nonlinear import codegen, model
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear import codegen, symbolic
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.simulate import simulate
 
 
@@ -64,14 +64,14 @@ def test_stable_speed_decays_unstable_speed_grows(benchmark_model):
 
 def test_derivation_is_cached(benchmark_model, monkeypatch):
     """A second load reads the generated module: derive() is never called again."""
-    path = codegen.generated_source(model.ModelOptions())
+    path = codegen.generated_source(symbolic.ModelOptions())
     assert path.exists()
 
     def boom(*args, **kwargs):
         raise AssertionError("re-derived although cached")
 
-    monkeypatch.setattr(model, "derive", boom)
-    assert codegen.generated_source(model.ModelOptions()) == path
+    monkeypatch.setattr(symbolic, "derive", boom)
+    assert codegen.generated_source(symbolic.ModelOptions()) == path
 
 
 def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, monkeypatch,
@@ -84,7 +84,7 @@ def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, m
     from pedalrepro.integrator import build
     from pedalrepro.nonlinear import library
 
-    options = model.ModelOptions()
+    options = symbolic.ModelOptions()
     key, so = codegen.cache_key(options), library.compiled_library(options)
     if so is None:
         skip_unless_required(CC, "no C compiler")
@@ -95,7 +95,7 @@ def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, m
     def boom(*args, **kwargs):
         raise AssertionError("re-derived although only hand-written C changed")
 
-    monkeypatch.setattr(model, "derive", boom)
+    monkeypatch.setattr(symbolic, "derive", boom)
     rebuilt = library.compiled_library(options, csrc=edited)
     assert codegen.cache_key(options) == key
     assert rebuilt != so and rebuilt.exists() and rebuilt.name.startswith(key)
@@ -103,9 +103,9 @@ def test_hand_written_c_change_recompiles_without_re_deriving(benchmark_model, m
 
 
 @pytest.mark.parametrize(("name", "options", "steer"), [
-    ("HR", model.ModelOptions(legs=True), 0.05),             # moving legs
-    ("CF", model.ModelOptions(legs=True, arms=True), 0.15),  # + CF's arm loops
-    ("HS", model.ModelOptions(legs=True, arms=True), 0.15),  # + HS's arms (free plane)
+    ("HR", symbolic.ModelOptions(legs=True), 0.05),             # moving legs
+    ("CF", symbolic.ModelOptions(legs=True, arms=True), 0.15),  # + CF's arm loops
+    ("HS", symbolic.ModelOptions(legs=True, arms=True), 0.15),  # + HS's arms (free plane)
 ])
 def test_compiled_rhs_equals_generated_python(name, options, steer):
     """C right-hand side = generated Python to rounding (NP models, off-equilibrium state)."""
@@ -156,7 +156,7 @@ def test_leg_fourier_series_reproduces_the_four_bar():
     motion = legs.leg_motion(geom, w, t)
     lam = bodies.bicycle_rider("CR")["lam"]
     s = np.array([spec(ti) for ti in t])
-    k = model.LEG_BODIES.index("shank_r")
+    k = symbolic.LEG_BODIES.index("shank_r")
     # the shank angle in the rear frame is the four-bar pitch angle minus the steer-axis tilt
     np.testing.assert_allclose(s[:, 3 * k + 2], motion.pitch_rad["shank"] - lam, atol=1e-9)
     np.testing.assert_allclose(s[:, 18 + 3 * k + 2], motion.pitch_rate_rad_s["shank"], atol=1e-7)

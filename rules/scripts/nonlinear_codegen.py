@@ -8,12 +8,12 @@ parallel sweep jobs start, so that two jobs never derive the same model at once.
 import sys
 import time
 
-from pedalrepro.nonlinear import codegen, library, model
+from pedalrepro.nonlinear import codegen, library, symbolic
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115
 # plain Whipple (benchmark, HS, HR, CR) and with CF's arm loops, with and without legs
 variant = snakemake.wildcards.variant
-options = model.ModelOptions(legs="legs" in variant, arms="arms" in variant)
+options = symbolic.ModelOptions(legs="legs" in variant, arms="arms" in variant)
 start = time.perf_counter()
 py = codegen.generated_source(options)
 so = library.compiled_library(options)

@@ -19,7 +19,7 @@ import yaml
 
 from pedalrepro import linear, params, response
 from pedalrepro.nonlinear import arms, bodies, calibration, models
-from pedalrepro.nonlinear.numeric import NonlinearModel, benchmark_matrices
+from pedalrepro.nonlinear.nonlinear_model import NonlinearModel, benchmark_matrices
 from pedalrepro.nonlinear.simulate import simulate
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: SIM115

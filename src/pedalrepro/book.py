@@ -23,6 +23,14 @@ from pathlib import Path
 
 from . import paths
 
+__all__ = [
+    "BOOK_FIGURES_HREF", "BOOK_TABLES_HREF", "PLACEHOLDERS", "thesis_label", "BEYOND_THESIS",
+    "figure_anchor", "pages_showing", "figure_html", "file_figure_html", "UNITS", "header",
+    "runs_as_columns", "table_html", "reader_table", "show_table", "show", "show_file", "Text",
+    "fill", "note_html", "paragraph", "plain_numbers_in_notebooks", "setup", "reader_text",
+    "placeholder_problems",
+]
+
 #: Where the book serves the figure files, relative to a chapter page (``notebooks/*.html``):
 #: the rule ``book`` copies ``results/figures`` to ``_build/html/figures``.
 BOOK_FIGURES_HREF = "../figures/"

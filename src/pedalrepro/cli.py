@@ -12,6 +12,8 @@ import sys
 
 from . import __version__
 
+__all__ = ["COMMAND_MODULES", "build_parser", "add_periodic_cli", "main"]
+
 #: Modules (relative to the package) that add sub-commands.
 COMMAND_MODULES: tuple[str, ...] = ("mocap.cli", "report", "own_bicycle")
 

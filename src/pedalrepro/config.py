@@ -29,6 +29,13 @@ import yaml
 
 from . import paths, yamlio
 
+__all__ = [
+    "DATA_FILES", "SYSTEM_ROOTS", "COPY_NAME", "SOURCE_ENTRIES", "STEP_MAXIMA",
+    "PERIODIC_STEP_MAXIMA", "GRID_CAPS", "MAX_TIME_SAMPLES", "UNIQUE_LISTS", "INCREASING_RANGES",
+    "grid_count", "ConfigError", "read_yaml", "validate", "source_entries", "source_owner",
+    "check_results_dir", "check", "load", "merge", "canonical", "write", "results_config",
+]
+
 DATA_FILES = ("config/schema.yaml",)
 
 #: Folders the results may never be written to (nor the repository root or $HOME itself).

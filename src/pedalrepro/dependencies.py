@@ -29,6 +29,12 @@ from pathlib import Path
 
 from . import paths
 
+__all__ = [
+    "DECLARATION", "PACKAGE_DIR", "PACKAGE", "python_source", "module_file", "module_name",
+    "imported_modules", "import_closure", "declared_files", "LOCATION_MODULES", "referenced_files",
+    "code_inputs",
+]
+
 #: Name of the module-level tuple declaring the files a module reads (repository-relative).
 DECLARATION = "DATA_FILES"
 #: The package's folder and name.

@@ -28,6 +28,13 @@ import numpy as np
 
 from . import legs, params
 
+__all__ = [
+    "TorqueHarmonics", "steer_factor", "torque_harmonics", "LATERAL_MODELS",
+    "segment_pitch_inertia_kg_m2", "dalembert_forces_n", "dalembert_torques_nm",
+    "generalised_torques_nm", "nrmsd_percent", "PedallingDisturbance", "pedalling_disturbance",
+    "section2_numbers", "to_arrays",
+]
+
 
 @dataclass(frozen=True)
 class TorqueHarmonics:

@@ -46,6 +46,12 @@ from .relative_difference import relative_difference  # Eq 3.26 (a leaf module)
 if TYPE_CHECKING:
     from .params import LinearModel
 
+__all__ = [
+    "LINEAR_POINTS", "MODEL_PAIRS", "DIAGONAL_SPEED_STEP_M_S", "DIAGONAL_OMEGA_STEP_RAD_S",
+    "ExamplePoints", "example_points", "series_speed", "stable_speed_mask", "RDStats", "rd_stats",
+    "reference_indices", "NONLINEAR_RD_MAPS", "nonlinear_rd_maps", "nonlinear_rd_stats",
+]
+
 #: The evaluation points of Sec 3.1.3 computed from linear methods only.
 LINEAR_POINTS: tuple[str, ...] = ("1c", "2b", "3a", "3b", "4", "5", "6")
 #: Comparisons of evaluation points 5 and 6: (reference model, compared model).

@@ -16,6 +16,11 @@ import numpy as np
 from . import gears, linear, momentum
 from .response import forcing, grid, particular_solution, select
 
+__all__ = [
+    "LINEAR_KEYS", "ps_grid_of", "gear_grid", "cam_cases", "neglected_momenta", "gear_section",
+    "gear_sections", "write_linear", "validation", "write_validation",
+]
+
 #: The ``linear`` config keys the figure data use (the rule passes only these).
 LINEAR_KEYS: tuple[str, ...] = (
     "ps_speed_step_m_s", "ps_speed_max_m_s", "ps_omega_step_rad_s", "ps_omega_max_rad_s",

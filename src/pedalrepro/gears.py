@@ -11,6 +11,11 @@ import numpy as np
 
 from . import params
 
+__all__ = [
+    "wheel_radius_m", "speed_m_s", "cadence_rad_s", "gear_ratio", "normal_cycling_ellipse",
+    "inside_ellipse",
+]
+
 
 def wheel_radius_m(bicycle: str) -> float:
     """Rear wheel radius ``rR`` of ``"hybrid"`` (Stratos), ``"city"`` (Browser), ``"benchmark"``."""

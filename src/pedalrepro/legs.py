@@ -38,6 +38,13 @@ import numpy as np
 
 from . import params
 
+__all__ = [
+    "BICYCLES", "COM_MODELS", "LegGeometry", "leg_geometry", "pedal_hip_distance_m",
+    "unreachable_crank_angles_rad", "check_reach", "LegMotion", "SEGMENTS", "segment_masses_kg",
+    "segment_lengths_m", "sample_times_s", "leg_motion", "fourier_coefficients", "fourier_mean",
+    "com_fourier", "harmonic_signal",
+]
+
 #: The bicycles whose seat geometry is in ``legs.yaml``; ``benchmark`` borrows the hybrid legs.
 BICYCLES: tuple[str, ...] = ("hybrid", "city", "benchmark")
 #: COM-fraction sets of ``legs.yaml`` ``com_fractions``.

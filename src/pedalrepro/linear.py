@@ -24,6 +24,12 @@ import numpy as np
 from . import params
 from .params import LinearModel
 
+__all__ = [
+    "MODEL_NAMES", "MODE_NAMES", "benchmark_model", "linear_model", "bicycle_of", "state_matrix",
+    "eigenvalues", "EigenSweep", "eigen_sweep", "max_real_part", "branch_crossings",
+    "stable_ranges", "EigenSummary", "summarise", "oscillatory_onset",
+]
+
 #: Model names accepted by :func:`linear_model`.
 MODEL_NAMES: tuple[str, ...] = ("benchmark", *params.MODELS)
 #: Mode names, in the order of the columns of :attr:`EigenSweep.eigenvalues`.

@@ -20,6 +20,10 @@ from .momentum_terms import NEGLECTED_TERMS as NEGLECTED_TERMS  # Eq 3.29 (a lea
 from .params import LinearModel
 from .response import Harmonics, harmonic_coefficients
 
+__all__ = [
+    "cam_coefficients", "cam_amplitude", "cam_time", "leg_momentum", "neglected_momenta_ratios",
+]
+
 
 def cam_coefficients(model: LinearModel, harmonics: Harmonics) -> np.ndarray:
     """Complex CAM response ``Q_k = -M^-1 coef_k`` per harmonic, shape (2, k) [roll; steer]."""

@@ -39,6 +39,14 @@ import numpy as np
 from . import disturbance, gears, legs, linear, response
 from .params import LinearModel
 
+__all__ = [
+    "DATA_FILES", "BENCHMARK_KEYS", "SEAT_TUBE_ANGLE_DEG", "CRANK_LENGTH_M", "GRAVITY_M_S2",
+    "BicycleDataError", "read_parameter_file", "read_yeadon_file", "check_bicycle_file",
+    "check_benchmark", "check_seat", "reach_fix", "OwnBicycle", "check_folder", "seat_geometry",
+    "load_bicycle", "torques", "ResonanceMap", "resonance_map", "summary", "write_map_csv",
+    "write_summary_csv", "plot", "run", "add_cli",
+]
+
 #: The book's example (rule ``own_bicycle_resonance``, a bicycle the thesis did not study): its
 #: files are the rule's inputs (pedalrepro.dependencies). Any other folder is the user's.
 DATA_FILES: tuple[str, ...] = ("data/parameters/bicycleparameters/bicycles/Rigid",

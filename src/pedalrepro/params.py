@@ -17,6 +17,11 @@ import numpy as np
 
 from . import paths, yamlio
 
+__all__ = [
+    "DATA_FILES", "MODELS", "BICYCLE_OF_MODEL", "read_yaml", "benchmark_parameters",
+    "stratos_geometry", "steer_geometry", "legs", "LinearModel", "appendix_b_model", "published",
+]
+
 #: Files read under a computed name (``_parameter_file(name)``; see pedalrepro.dependencies):
 #: the rules importing this module rerun when one of them changes.
 DATA_FILES: tuple[str, ...] = ("data/parameters/appendix_b.yaml", "data/parameters/benchmark.yaml",

@@ -15,6 +15,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+__all__ = [
+    "ROOT", "DATA", "PARAMETERS", "PUBLISHED", "CONFIG", "NOTEBOOKS", "BOOK", "STYLE", "LAYOUT",
+    "FIGURE_FORMATS", "results", "tables", "figures", "intermediate", "logs", "benchmarks", "table",
+    "figure", "interm", "log", "benchmark", "last_runtime_s",
+]
+
 #: Repository root (the folder holding ``pyproject.toml``), for an editable install.
 ROOT: Path = Path(__file__).resolve().parents[2]
 DATA: Path = ROOT / "data"

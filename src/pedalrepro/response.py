@@ -27,6 +27,13 @@ from .integrator import LinearSystem, SimulationError, integrate
 from .linear import state_matrix
 from .params import LinearModel
 
+__all__ = [
+    "Harmonics", "SimpleHarmonics", "select", "harmonic_coefficients", "dynamic_stiffness",
+    "particular_solution", "solve_2x2", "particular_solution_loop", "superposed_amplitude",
+    "TimeSolution", "analytic_time_solution", "numerical_time_solution", "numerical_time_solutions",
+    "cadence_amplitudes", "grid", "speed_cadence_grid", "time_samples", "forcing",
+]
+
 
 class Harmonics(Protocol):
     """Anything like ``disturbance.TorqueHarmonics``: harmonic numbers and complex coefficients.

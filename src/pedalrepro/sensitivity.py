@@ -32,6 +32,11 @@ import pandas as pd
 
 from . import disturbance, legs, linear, response
 
+__all__ = [
+    "HIP_WIDTH_FACTORS", "EXAMPLE_POINT_SHIFTS", "Variant", "table_4_1_variants", "table_4_1_model",
+    "weave_frequency_at_example_point", "summary",
+]
+
 #: Hip width factors of the sensitivity runs (+-2 %).
 HIP_WIDTH_FACTORS: tuple[float, ...] = (0.98, 1.02)
 #: Shifts of the example points along the time grid's diagonal (grid steps).

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["WINDOWS", "window", "spectrum", "coefficient_at", "amplitude_at"]
+
 WINDOWS: tuple[str | None, ...] = ("hann", None)
 
 

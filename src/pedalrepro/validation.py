@@ -22,6 +22,13 @@ import pandas as pd
 
 from . import disturbance, linear, params, response
 
+__all__ = [
+    "TABLE_4_1_COLUMNS", "TABLE_4_2_COLUMNS", "DATA_LABELS", "labelled", "caption", "rd_percent",
+    "model_response", "model_amplitudes", "model_series", "per_run_table", "table_4_1", "table_4_2",
+    "example_runs", "ps_map", "PUBLIC", "COMPARISON_COLUMNS", "real_rows", "published_columns",
+    "method_comparison", "chapter_4_tables", "chapter_4_from_files", "real_example",
+]
+
 TABLE_4_1_COLUMNS: tuple[str, ...] = (
     "system", "speed_kmh", "cadence_rpm", "cadence_measured_rpm", "roll_measured_rad",
     "roll_model_rad",

@@ -9,6 +9,8 @@ from typing import Any
 
 import yaml
 
+__all__ = ["read_mapping"]
+
 
 def read_mapping(path: str | Path, what: str = "YAML",
                  error: type[Exception] = ValueError) -> dict[str, Any]:

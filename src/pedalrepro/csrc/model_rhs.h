@@ -23,7 +23,7 @@
 #include "lu.h"
 
 /* Coordinates and speeds: q[3] roll, q[4] pitch, q[6] steer; independent speeds u[3] roll,
-   u[5] rear wheel, u[6] steer (pedalrepro.nonlinear.model ROLL, PITCH, STEER, REAR_WHEEL). */
+   u[5] rear wheel, u[6] steer (pedalrepro.nonlinear.symbolic ROLL, PITCH, STEER, REAR_WHEEL). */
 static const int U_IND[3] = {3, 5, 6};
 static const int U_DEP[5] = {0, 1, 2, 4, 7};
 

@@ -35,3 +35,9 @@ from .page import (  # noqa: F401  (the package's public names)
     synthetic_stamp,
 )
 from .registry import draw  # noqa: E402, F401
+
+__all__ = [
+    "BEYOND_THESIS", "BOOK_FIGURES_HREF", "BOOK_TABLES_HREF", "MAX_WIDTH_IN", "MIN_FONT_PT",
+    "check_legible", "draw", "figure_html", "registry", "save", "show", "style", "synthetic_stamp",
+    "thesis_label",
+]

@@ -16,6 +16,8 @@ import pandas as pd
 
 from .palette import MEASURED_COLOUR, MODEL_COLOURS
 
+__all__ = ["fig_validation", "fig_gains", "fig_maps", "fig_time", "draw_all"]
+
 _OPEN = dict(color="0.45", ls="--", marker="s", ms=4, lw=1.0)
 _CLOSED = dict(ls="-", marker="o", ms=4, lw=1.2)
 

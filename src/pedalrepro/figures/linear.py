@@ -30,6 +30,14 @@ from .palette import (
     model_colour,
 )
 
+__all__ = [
+    "Arrays", "ALL_TIME_METHODS", "MODELS4", "AMP_LEVELS", "RD_LEVELS_PERCENT", "WIDTH_IN",
+    "zoom_window", "eigen_panel", "fig_eigenvalues", "fig_gear_grid", "fig_ps_time",
+    "fig_series_time", "fig_fft", "fig_series_fft", "fig_cam_time", "fig_neglected_momenta",
+    "fig_amplitude_maps", "fig_gear_sections", "fig_benchmark_ps", "rd_norm", "rd_colorbar",
+    "rd_map", "fig_rd_reference", "fig_rd_models", "fig_rd_points",
+]
+
 Arrays = Mapping[str, np.ndarray]
 
 #: Every time-solution method of the thesis (Sec 3.1.2); the linear part makes LA and LN.

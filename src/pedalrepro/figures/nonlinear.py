@@ -10,6 +10,8 @@ import pandas as pd
 
 from .palette import model_colour
 
+__all__ = ["fig_3_34", "fig_linearisation_vs_appendix_b", "fig_e_1", "example_runs"]
+
 
 def fig_3_34(maps: Mapping[str, np.ndarray],
              eigen: Mapping[str, Mapping[str, np.ndarray]] | None = None) -> plt.Figure:

@@ -13,6 +13,11 @@ import matplotlib
 
 from .. import paths
 
+__all__ = [
+    "DATA_FILES", "style", "MAX_WIDTH_IN", "MIN_FONT_PT", "check_legible", "overlapping_colorbars",
+    "save", "synthetic_stamp",
+]
+
 #: Read through ``paths.STYLE`` (see pedalrepro.dependencies).
 DATA_FILES: tuple[str, ...] = ("src/pedalrepro/pedalrepro.mplstyle",)
 

@@ -9,6 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = [
+    "MODEL_COLOURS", "METHOD_STYLE", "METHOD_LABEL", "MEASURED_COLOUR", "CAM_COLOUR", "WEAVE_STYLE",
+    "STABLE_STYLE", "RD_TICKS_PERCENT", "RD_LOG_LEVELS_PERCENT", "model_colour",
+]
+
 #: Colour of each model (Appendix B models, the benchmark) in every chapter.
 MODEL_COLOURS: dict[str, str] = {"HS": "#1f77b4", "CF": "#d62728", "HR": "#2ca02c",
                                  "CR": "#ff7f0e", "benchmark": "#7f7f7f"}

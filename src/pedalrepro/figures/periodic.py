@@ -13,6 +13,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
+__all__ = ["AMP_NORM", "RD_NORM", "fig_orbit_maps", "fig_fine_maps", "fig_continuation"]
+
 AMP_NORM = (1e-4, 1.0)  # rad, colour range of the amplitude maps
 RD_NORM = (1e-3, 1e2)   # percent
 

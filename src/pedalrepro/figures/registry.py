@@ -28,6 +28,12 @@ import numpy as np
 from .. import paths, timesolution
 from .page import save, style
 
+__all__ = [
+    "MODULES", "TIME_METHODS", "OPTIONAL_METHODS", "MODELS4", "PARTS", "PERIODIC_METHODS",
+    "PERIODIC_FINE_METHOD", "COMPLETE", "PARTIAL", "MISSING", "FigureSpec", "FIGURES", "spec",
+    "ids", "groups", "code_sources", "inputs", "load_inputs", "draw", "write", "completeness",
+]
+
 #: The drawing modules of :mod:`pedalrepro.figures`, imported by name when a figure is drawn
 #: (:meth:`FigureSpec.callable`), so that a group's rule depends on its own modules only
 #: (:func:`code_sources`), not on every part's.

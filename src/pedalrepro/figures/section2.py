@@ -17,6 +17,11 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+__all__ = [
+    "SEGMENTS", "SEGMENT_COLOURS", "LEG", "SIMPLE", "fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5",
+    "fig_2_6", "fig_2_7", "fig_d_1", "table_d_1_wide", "fig_table_d_1_deviation",
+]
+
 SEGMENTS = ("crank", "shank", "thigh")
 SEGMENT_COLOURS = {"crank": "tab:green", "shank": "tab:orange", "thigh": "tab:purple"}
 LEG = "leg model (four-bar)"

@@ -25,6 +25,11 @@ import subprocess
 from functools import cache
 from pathlib import Path
 
+__all__ = [
+    "CSRC", "DATA_FILES", "cache_root", "compiler", "CFLAGS", "FALLBACK_CFLAGS", "machine_tag",
+    "source_hash", "sources", "build", "declare", "linear_library",
+]
+
 #: The hand-written C: shared headers and the entry file of each library.
 CSRC = Path(__file__).resolve().parents[1] / "csrc"
 #: The files of the linear library (change tracking, :mod:`pedalrepro.dependencies`); the

@@ -27,6 +27,11 @@ from typing import Protocol
 
 import numpy as np
 
+__all__ = [
+    "SPACAR_RTOL", "SPACAR_ATOL", "VARIANTS", "MAX_STEPS", "SimulationError", "Simulation",
+    "CompiledRhs", "System", "integrate", "flow", "harmonic_torque",
+]
+
 #: SPACAR's default local error tolerances used by the thesis (Sec 3.1.2.1).
 SPACAR_RTOL = 1e-4
 SPACAR_ATOL = 1e-5

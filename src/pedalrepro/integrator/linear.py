@@ -17,6 +17,8 @@ import numpy as np
 from .build import linear_library
 from .core import CompiledRhs
 
+__all__ = ["LinearSystem"]
+
 
 class _LinearSystemC(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("a", ctypes.c_void_p), ("n_harm", ctypes.c_int),

@@ -22,6 +22,11 @@ from .. import spectral
 from .kinematics import Kinematics, fill_gaps
 from .reader import Run
 
+__all__ = [
+    "CADENCE_BAND_HZ", "Cadence", "foot_signal", "peak_frequency_hz", "detect_cadence",
+    "amplitudes_at_cadence", "amplitudes_nearest_bin", "scalloping_factor",
+]
+
 #: Band searched for the pedalling peak (Hz): 6-180 rpm.
 CADENCE_BAND_HZ: tuple[float, float] = (0.1, 3.0)
 

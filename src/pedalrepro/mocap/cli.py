@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pandas as pd
 
+__all__ = ["add_cli"]
+
 
 def _sources(items: list[str]):
     """Run files from the arguments: a ``.mat`` file, export files, or a public run number."""

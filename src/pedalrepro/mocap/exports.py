@@ -49,6 +49,11 @@ from .reader import (
     parse_run_id,
 )
 
+__all__ = [
+    "PUBLIC_RUNS", "IncompleteRunError", "export_parts", "read_xlsx", "read_csv", "read_table",
+    "public_runs", "run_metadata", "sibling_files", "read_export_run", "write_mat",
+]
+
 PUBLIC_RUNS: Path = paths.PARAMETERS / "public_runs.yaml"
 
 

@@ -41,6 +41,15 @@ import requests
 
 from .. import paths
 
+__all__ = [
+    "DOI", "BASE_URL", "REGISTRY", "REGISTRY_PUBLIC", "ENV", "SOURCES", "RUN_FILE", "ARCHIVES",
+    "TIMEOUT_S", "ATTEMPTS", "LOG", "DataUnavailableError", "HashMismatchError", "CorruptDataError",
+    "offline_message", "data_dir", "make_pooch", "make_public_pooch", "write_registry",
+    "refresh_registry", "verify", "ResumingDownloader", "fetch", "figshare_registry",
+    "rider_run_names", "run_files", "public_files", "cache_state", "cached_complete",
+    "resolve_source",
+]
+
 DOI = "10.6084/m9.figshare.1082512"
 BASE_URL = f"doi:{DOI}/"
 REGISTRY: Path = paths.DATA / "registry.txt"

@@ -33,6 +33,11 @@ from scipy import signal
 from .. import params
 from .reader import FORK_MARKERS, REAR_FRAME_MARKERS, Run, marker_index
 
+__all__ = [
+    "N3", "MIN_MARKERS", "OUTLIER_M", "LOWPASS_HZ", "kabsch", "robust_fit", "reference_shape",
+    "Kinematics", "fill_gaps", "steer_axis_tilt_rad", "extract",
+]
+
 N3 = np.array([0.0, 0.0, 1.0])
 #: Minimum number of visible markers for a rigid-body fit.
 MIN_MARKERS = 3

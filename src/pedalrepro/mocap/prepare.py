@@ -28,6 +28,8 @@ import pandas as pd
 
 from . import exports, fetch, synthetic
 
+__all__ = ["PUBLIC", "PUBLIC_DIR", "prepare_runs", "series_id", "extract_runs"]
+
 #: ``data_source`` value of the rows built from the real public subset.
 PUBLIC = "public_subset"
 PUBLIC_DIR = "public"

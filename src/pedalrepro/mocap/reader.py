@@ -28,6 +28,13 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
+__all__ = [
+    "MARKERS", "N_MARKERS", "FORK_MARKERS", "REAR_FRAME_MARKERS", "WHEEL_CENTRE_MARKERS",
+    "SENTINEL", "MM_THRESHOLD", "M_TO_N", "TASKS", "BICYCLES", "MocapFileError", "marker_index",
+    "parse_run_id", "task_of", "runs_rider", "Run", "FORMATS", "EXPORT_SUFFIXES", "EXPORT_NAME",
+    "is_export", "check_mat_name", "read_run", "read_metadata",
+]
+
 #: Marker names, index = marker number - 1 (autolev/MOCAP.AL, convertData.m; 25 is the right
 #: rear wheel centre per MOCAP.AL and sign checks, the dissertation text swaps 25 and 31).
 MARKERS: tuple[str, ...] = (

@@ -19,6 +19,13 @@ from . import cadence as cadence_mod
 from . import kinematics
 from .reader import Run, parse_run_id, read_metadata, read_run
 
+__all__ = [
+    "SYSTEM_OF", "validation_runs", "index_runs", "run_path", "select_system", "table_4_1_runs",
+    "MAX_GAP_S", "MAX_INTERPOLATED_SHARE", "MIN_SEGMENT_S", "MIN_FOOT_AMPLITUDE_M",
+    "MAX_CADENCE_DISAGREEMENT", "RunRefusedError", "RunAnalysis", "load_run", "gaps",
+    "usable_segment", "excerpt", "check_lowpass", "check_length", "analyse_run", "analyse_loaded",
+]
+
 SYSTEM_OF: dict[tuple[str, str], str] = {
     ("stratos", "pedalling"): "HS", ("browser", "pedalling"): "CF",
     ("stratos", "nohands"): "HR", ("browser", "nohands"): "CR",

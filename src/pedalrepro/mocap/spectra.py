@@ -39,6 +39,11 @@ import pooch
 from .. import paths
 from . import fetch
 
+__all__ = [
+    "REGISTRY_SPECTRA", "DATA_FILES", "LABEL", "FILES", "STEER_SECOND", "SpectraFormatError",
+    "make_pooch", "fetch_files", "SpeedSpectrum", "read_figure", "read_all", "cadence_table",
+]
+
 REGISTRY_SPECTRA: Path = paths.DATA / "registry_spectra.txt"
 #: Read at run time (pedalrepro.dependencies: the rules' code inputs).
 DATA_FILES: tuple[str, ...] = ("data/registry_spectra.txt",)

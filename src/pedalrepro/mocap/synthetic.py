@@ -41,6 +41,13 @@ from .. import disturbance, legs, linear, params, response
 from ..params import read_yaml
 from .reader import MARKERS, N_MARKERS, marker_index
 
+__all__ = [
+    "BIKE_KIND", "SYSTEMS", "HR_STAND_IN_FIRST_TRIAL", "CONTROL_CORNER_HZ", "UPPER_BODY_STEER_RAD",
+    "UPPER_BODY_ROLL_RAD", "TRUNK_ANGLE_RAD", "GAP_STYLES", "SENTINEL_VALUE", "StandInRun",
+    "control_std_rad", "stand_in_runs", "bicycle_shapes", "open_loop", "simulate_run", "static_run",
+    "MAT_HEADER", "savemat", "write_stand_in", "marker_names",
+]
+
 #: Bicycle name in the files -> params name; system -> (bicycle, condition string, task)
 BIKE_KIND = {"stratos": "hybrid", "browser": "city"}
 SYSTEMS = {

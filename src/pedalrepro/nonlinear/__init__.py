@@ -2,9 +2,9 @@
 
 Modules, leaves first (``tests/test_imports.py`` keeps the imports acyclic):
 
-* :mod:`.model` -- symbolic derivation with SymBRiM/sympy; :mod:`.codegen` -- its cached
-  generated code; :mod:`.numeric` -- numeric evaluation and linearisation of a parametrised
-  model (:class:`.numeric.NonlinearModel`).
+* :mod:`.symbolic` -- symbolic derivation with SymBRiM/sympy; :mod:`.codegen` -- its cached
+  generated code; :mod:`.nonlinear_model` -- :class:`.nonlinear_model.NonlinearModel`, the
+  numeric evaluation and linearisation of a parametrised model.
 * :mod:`.rigid` -- rigid-body mass algebra (:class:`.rigid.RigidPart`); :mod:`.settings` --
   ``nonlinear_models.yaml``; :mod:`.bicycle_data` -- the one cached BicycleParameters/Yeadon
   load; :mod:`.prescribed` -- prescribed motion as Fourier series.

@@ -7,7 +7,7 @@ elbows, ball joints at the hands. With the grip straight ahead of the shoulder t
 planar: the shoulder flexes about the trunk's lateral axis (SymBRiM ``FlexRotLeftShoulder``
 literally) and the elbow hinges in the shoulder's sagittal plane (the branch with the elbow
 below the shoulder-grip line: flexed arms, elbows down), so
-:func:`pedalrepro.nonlinear.model.arm_loop_elbow` holds with ``normal = (0, 1, 0)``.
+:func:`pedalrepro.nonlinear.symbolic.arm_loop_elbow` holds with ``normal = (0, 1, 0)``.
 
 :class:`ArmDesign` holds the values the loop is built from (benchmark frame, rider at the
 original seat height): shoulder centre, grip (its lateral position = the shoulder's), segment
@@ -33,6 +33,12 @@ import numpy as np
 from . import arms as _arms
 from . import bicycle_data
 from .rigid import RigidPart
+
+__all__ = [
+    "DESIGN_KEYS", "FREE_PLANE_KEYS", "ArmDesign", "yeadon_total_mass_kg", "nominal_design",
+    "elbow_direction_rad", "plane_normal", "loop", "hands", "removed_segments", "field_names",
+    "particle_steer_term",
+]
 
 #: Calibratable fields of :class:`ArmDesign` (CF: grip straight ahead of the shoulder, arms in
 #: the sagittal plane), in order.

@@ -16,7 +16,7 @@ ball-and-socket joints at the hands. Neither adds degrees of freedom. Here:
   solids ``a2``, ``a3``). Joints as SymBRiM's ``FlexRotLeftShoulder`` +
   ``PinElbowStickLeftArm`` + ``HolonomicHandGrips``: the upper arm stays in a plane through the
   shoulder, the elbow follows in closed form from the steer angle
-  (:func:`pedalrepro.nonlinear.model.arm_loop_elbow`).
+  (:func:`pedalrepro.nonlinear.symbolic.arm_loop_elbow`).
 * Each segment is a rod of three particles with its mass, COM and transverse central inertia
   (``m1 = I / (c l)`` at the proximal joint, ``m2 = I / ((l - c) l)`` at the distal joint,
   ``m3 = m - m1 - m2`` at the COM, ``c`` the COM distance from the proximal joint). The
@@ -39,9 +39,14 @@ from functools import cache
 
 import numpy as np
 
-from . import bicycle_data
-from . import model as symbolic
+from . import bicycle_data, symbolic
 from .rigid import RigidPart, combine, point_mass
+
+__all__ = [
+    "YeadonArms", "yeadon_arms", "rod_particles", "ArmLoop", "grip_at_steer", "flexion_axis",
+    "arm_loop", "moving_particles", "STEER_REACH_FRACTION", "steer_reach_rad", "closure_margin_m2",
+    "fixed_parts", "symbol_values", "nominal_posture",
+]
 
 #: Yeadon -> bicycle (benchmark) axes: BicycleParameters ``rider.yeadon_vec_to_bicycle_vec``.
 _YEADON_TO_BIKE = np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
@@ -235,7 +240,7 @@ def steer_reach_rad(loop: ArmLoop, bench: dict) -> float:
 def closure_margin_m2(loop: ArmLoop, steer_rad: float, bench: dict) -> float:
     """How far both arms are from losing their grips at steer ``+-steer_rad`` (m^2): the least
     of ``a^2 - t^2`` (squared distance of the elbow from the shoulder-grip chord, ``t`` the
-    elbow's position along it, :func:`model.arm_loop_elbow`) and ``b^2 - dy^2`` over both arms
+    elbow's position along it, :func:`symbolic.arm_loop_elbow`) and ``b^2 - dy^2`` over both arms
     and both signs; negative when a loop is open. A smooth stand-in for
     :func:`steer_reach_rad` ``>= steer_rad`` (the loop closes at every smaller steer angle)."""
     out = np.inf
@@ -261,7 +266,7 @@ def fixed_parts(loop: ArmLoop) -> tuple[list[RigidPart], list[RigidPart]]:
 
 
 def symbol_values(loop: ArmLoop, bench: dict, moore: dict) -> dict[str, float]:
-    """Values of :data:`model.ARM_PARAMETERS` (Moore rear-frame coordinates from the rear hub,
+    """Values of :data:`symbolic.ARM_PARAMETERS` (Moore rear-frame coordinates from the rear hub,
     grip in front-frame coordinates from SymBRiM's steer hub, ``d1`` along the rear frame x)."""
     lam, r_r = bench["lam"], bench["rR"]
 

@@ -18,11 +18,15 @@ from functools import cache
 import numpy as np
 
 from .. import legs, params, paths
-from . import arm_design, arms, bicycle_data
-from . import model as symbolic
+from . import arm_design, arms, bicycle_data, symbolic
 from .leg_bodies import leg_revolution
 from .rigid import RigidPart, body_part, combine, parallel_axis, subtract, with_body
 from .settings import has_arms, model_spec, settings, thesis_inputs
+
+__all__ = [
+    "REVOLUTION_SAMPLES", "thesis_bicycle", "thesis_rider", "leg_geometry", "crank_axis_m",
+    "seat_tube_unit", "rider_drop_m", "Assembly", "assembly", "assemble",
+]
 
 #: Samples of one crank revolution for the leg bodies (32 harmonics kept: the four-bar motion
 #: is smooth, checked in tests).

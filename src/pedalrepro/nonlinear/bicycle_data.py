@@ -15,6 +15,8 @@ from functools import cache
 
 from .. import paths
 
+__all__ = ["BicycleData", "load"]
+
 
 @dataclass(frozen=True)
 class BicycleData:

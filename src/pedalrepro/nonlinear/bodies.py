@@ -14,23 +14,25 @@ from functools import cache
 import numpy as np
 
 from .. import params
-from . import arms, calibration
-from . import model as symbolic
+from . import arms, calibration, symbolic
 from .assembly import (
     REVOLUTION_SAMPLES,
     Assembly,
     assemble,
     assembly,
     leg_geometry,
-    rider_drop_m,
+    rider_drop_m,  # noqa: F401  (re-exported from .assembly; not part of this module's __all__)
 )
 from .leg_bodies import leg_revolution
-from .numeric import moore_parameters
+from .nonlinear_model import moore_parameters
 from .prescribed import FourierSpec
 from .rigid import body_part, subtract, with_body
 from .settings import has_arms
 
-__all__ = ["REVOLUTION_SAMPLES", "leg_geometry", "rider_drop_m"]
+__all__ = [
+    "bottom_bracket_m", "calibration_of", "model_assembly", "clear_caches", "bicycle_rider",
+    "model_bodies", "arm_loop", "steer_limit_rad", "leg_bodies", "without_legs", "legs_fixed",
+]
 
 
 def bottom_bracket_m(model: str) -> np.ndarray:
@@ -81,7 +83,7 @@ def model_bodies(model: str, original_seat: bool = False) -> tuple[dict[str, flo
     """Benchmark parameters of the model's rigid bodies and the values of its arm symbols.
 
     Without arms: :func:`bicycle_rider` and ``{}``. With arms (CF, :mod:`.arms`): the
-    ``arm_*`` values (:data:`model.ARM_PARAMETERS`) of the arm loop at this seat height.
+    ``arm_*`` values (:data:`symbolic.ARM_PARAMETERS`) of the arm loop at this seat height.
     """
     bench = bicycle_rider(model, original_seat)
     if not has_arms(model):
@@ -117,7 +119,7 @@ def leg_bodies(model: str, cadence_rad_s: float, samples: int = REVOLUTION_SAMPL
     Returns
     -------
     (leg_params, spec, frozen_parts)
-        ``leg_params``: ``<body>_y``, ``<body>_m``, ``<body>_I`` for :data:`model.LEG_BODIES`;
+        ``leg_params``: ``<body>_y``, ``<body>_m``, ``<body>_I`` for :data:`symbolic.LEG_BODIES`;
         ``spec``: ``t -> s`` (positions, rates, accelerations in the generated ``SPEC`` order,
         a :class:`.prescribed.FourierSpec` of one revolution, ``samples`` per revolution, exact
         to rounding for the band-limited four-bar motion); ``frozen_parts``: each body at crank

@@ -21,7 +21,7 @@ closed-form Whipple matrices of the assembled benchmark parameters
 contribution of the moving arm particles (the non-linear model's numerical linearisation minus
 the closed form of the same bodies). The solve (SLSQP, then Newton steps on the equalities) is
 checked with the non-linear model's own numerical linearisation
-(:func:`pedalrepro.nonlinear.numeric.benchmark_matrices`).
+(:func:`pedalrepro.nonlinear.nonlinear_model.benchmark_matrices`).
 """
 
 from __future__ import annotations
@@ -35,6 +35,15 @@ from .. import params
 from . import assembly as asmb
 from .rigid import RigidPart, body_part
 from .settings import has_arms, model_options, model_spec, thesis_inputs
+
+__all__ = [
+    "NAMES", "FRAME_KEYS", "FREE_ENTRIES", "whipple_matrices", "max_relative_difference",
+    "frame_vector", "frame_part", "scales", "nearest_valid_iyy", "validity", "Calibration",
+    "moments", "from_moments", "Solution", "solve", "steer_stiffness_term", "arm_term",
+    "static_stiffness", "arm_half_widths", "elbow_flexion_rad", "particle_arm_term",
+    "arm_closure_margin_m2", "calibrate_arms", "to_dict", "from_dict", "save", "use_file",
+    "forget_files", "calibrate", "solve_model",
+]
 
 #: Matrices of the linearised roll-steer equations (Eq 3.1).
 NAMES: tuple[str, ...] = ("M", "C1", "K0", "K2")
@@ -144,7 +153,7 @@ def _arm_contribution(model: str, asm, frames) -> dict[str, np.ndarray]:
     if asm.loop is None:
         return {k: np.zeros((2, 2)) for k in NAMES}
     from . import arms as _arms
-    from .numeric import NonlinearModel, benchmark_matrices, moore_parameters
+    from .nonlinear_model import NonlinearModel, benchmark_matrices, moore_parameters
 
     bench = asmb.assemble(asm, frames)
     values = _arms.symbol_values(asm.loop, bench, moore_parameters(bench))
@@ -280,7 +289,7 @@ def arm_term(model: str, design, rider_shift_m: float = 0.0) -> float:
     independent of the frames, which satisfy the Whipple identity), the rider moved
     ``rider_shift_m`` down the seat tube."""
     from . import arms as _arms
-    from .numeric import NonlinearModel, moore_parameters
+    from .nonlinear_model import NonlinearModel, moore_parameters
 
     asm = asmb.assembly(model, False, float(rider_shift_m), design)
     bench = asmb.assemble(asm)
@@ -291,7 +300,7 @@ def arm_term(model: str, design, rider_shift_m: float = 0.0) -> float:
 
 def static_stiffness(nl) -> np.ndarray:
     """``K0`` of a non-linear model from one complex-step Jacobian at zero speed (the static
-    part of :func:`numeric.benchmark_matrices`: ``g K0 = -M dq''/dq`` at ``v = 0``)."""
+    part of :func:`.nonlinear_model.benchmark_matrices`: ``g K0 = -M dq''/dq`` at ``v = 0``)."""
     h = 1e-30
     x0 = nl.upright_state(0.0).astype(complex)
     cols = []

@@ -22,8 +22,10 @@ from .calibration import (
     whipple_matrices,
 )
 from .models import nt_model
-from .numeric import benchmark_matrices
+from .nonlinear_model import benchmark_matrices
 from .settings import model_spec
+
+__all__ = ["verify", "UNITS", "table", "checks", "arm_checks", "write_results"]
 
 
 def verify(model: str) -> float:

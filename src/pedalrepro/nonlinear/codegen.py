@@ -1,6 +1,6 @@
 """Derive once, generate numeric code once: the on-disk cache of the non-linear models.
 
-The symbolic derivation (:func:`pedalrepro.nonlinear.model.derive`, minutes for the arm loops)
+The symbolic derivation (:func:`pedalrepro.nonlinear.symbolic.derive`, minutes for the arm loops)
 is turned into a plain Python module and into C functions with common-subexpression elimination
 (``sympy.cse``), both written to a cache folder keyed by a hash of the model options, the model
 source, this generator and the sympy/symbrim versions (:func:`cache_key`). A rerun imports the
@@ -25,7 +25,12 @@ from types import SimpleNamespace
 import sympy as sm
 
 from ..integrator.build import cache_root
-from . import model as _model
+from . import symbolic
+
+__all__ = [
+    "CODEGEN_VERSION", "cache_dir", "cache_key", "generated_source", "generated_c", "load",
+    "c_source",
+]
 
 #: Generated-code format version (bump when the generator changes).
 CODEGEN_VERSION = "3"
@@ -41,11 +46,11 @@ def cache_dir() -> Path:
 #: hand-written C, which only needs a recompile), read once at import: a process that imported
 #: the model before its file was edited must not store its (old) derivation under the new key.
 _SOURCES_AT_IMPORT: tuple[bytes, ...] = (
-    Path(_model.__file__).read_bytes(), Path(__file__).read_bytes())
+    Path(symbolic.__file__).read_bytes(), Path(__file__).read_bytes())
 
 
-def cache_key(options: _model.ModelOptions) -> str:
-    """Hash of everything the generated code depends on: ``model.py``, ``codegen.py``, the
+def cache_key(options: symbolic.ModelOptions) -> str:
+    """Hash of everything the generated code depends on: ``symbolic.py``, ``codegen.py``, the
     sympy and symbrim versions and the options (changes whenever the derivation can)."""
     h = hashlib.sha256()
     for text in _SOURCES_AT_IMPORT:
@@ -56,7 +61,7 @@ def cache_key(options: _model.ModelOptions) -> str:
     return f"{options.key()}_{h.hexdigest()[:16]}"
 
 
-def _source(sym: _model.SymbolicModel) -> str:
+def _source(sym: symbolic.SymbolicModel) -> str:
     """Python source of ``rhs_parts(q, u, p, s)`` and ``energy(q, u, p, s)``."""
     from sympy.printing.pycode import PythonCodePrinter
 
@@ -113,17 +118,17 @@ def _source(sym: _model.SymbolicModel) -> str:
 
 
 @cache
-def _derive_cached(options: _model.ModelOptions) -> _model.SymbolicModel:
+def _derive_cached(options: symbolic.ModelOptions) -> symbolic.SymbolicModel:
     """One derivation per process, shared by the Python and the C generator."""
-    return _model.derive(options)
+    return symbolic.derive(options)
 
 
-def generated_source(options: _model.ModelOptions) -> Path:
+def generated_source(options: symbolic.ModelOptions) -> Path:
     """Path of the generated Python module, deriving and generating it only when not cached."""
     return _generate(options)[0]
 
 
-def generated_c(options: _model.ModelOptions) -> Path:
+def generated_c(options: symbolic.ModelOptions) -> Path:
     """Path of the generated C functions ``constraint_matrix`` and ``dynamics`` (cached)."""
     return _generate(options)[1]
 
@@ -134,7 +139,7 @@ def _write(path: Path, text: str) -> None:
     tmp.replace(path)  # atomic: parallel jobs never read a half-written file
 
 
-def _generate(options: _model.ModelOptions) -> tuple[Path, Path]:
+def _generate(options: symbolic.ModelOptions) -> tuple[Path, Path]:
     folder = cache_dir()
     key = cache_key(options)
     py, c = folder / f"{key}.py", folder / f"{key}.gen.c"
@@ -150,7 +155,7 @@ def _generate(options: _model.ModelOptions) -> tuple[Path, Path]:
 
 
 @cache
-def load(options: _model.ModelOptions, complex_step: bool = False) -> SimpleNamespace:
+def load(options: symbolic.ModelOptions, complex_step: bool = False) -> SimpleNamespace:
     """The generated functions ``rhs_parts`` and ``energy`` and the names ``PARAMS``, ``SPEC``.
 
     Parameters
@@ -176,7 +181,7 @@ def load(options: _model.ModelOptions, complex_step: bool = False) -> SimpleName
 # reference: tests compare the two).
 
 
-def c_source(sym: _model.SymbolicModel) -> str:
+def c_source(sym: symbolic.SymbolicModel) -> str:
     """C99 source of ``constraint_matrix(q, p, A)`` and ``dynamics(q, u, p, s, M, F, b)``."""
     from sympy.printing.c import C99CodePrinter
 

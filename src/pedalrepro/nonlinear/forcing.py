@@ -13,6 +13,8 @@ import ctypes
 
 import numpy as np
 
+__all__ = ["ForcingStruct", "fill_forcing"]
+
 
 class ForcingStruct(ctypes.Structure):
     """``forcing_t`` of ``forcing.h``."""
@@ -26,7 +28,7 @@ class ForcingStruct(ctypes.Structure):
 
 
 def fill_forcing(fc: ForcingStruct, model, harmonics=None, omega_rad_s: float = 0.0) -> list:
-    """Fill ``fc`` with the forcing of ``model`` (a :class:`.numeric.NonlinearModel`).
+    """Fill ``fc`` with the forcing of ``model`` (a :class:`.nonlinear_model.NonlinearModel`).
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """The legs and cranks of the non-linear models as rigid bodies over one crank revolution.
 
 The four-bar leg motion of :mod:`pedalrepro.legs` (thesis Sec 2.1.1) gives each crank, shank and
-thigh (:data:`pedalrepro.nonlinear.model.LEG_BODIES`) a path; here those paths become the
+thigh (:data:`pedalrepro.nonlinear.symbolic.LEG_BODIES`) a path; here those paths become the
 prescribed coordinates of method NP (SymBRiM's rear-frame coordinates) and the rigid parts that
 the models lump into body B (revolution averaged, or frozen at crank angle 0 for NT,
 Sec 3.1.1.3).
@@ -14,8 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import legs
-from . import model as symbolic
+from . import symbolic
 from .rigid import RigidPart
+
+__all__ = ["LegRevolution", "leg_revolution"]
 
 
 @dataclass(frozen=True)

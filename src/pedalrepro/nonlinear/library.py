@@ -16,8 +16,9 @@ from functools import cache
 from pathlib import Path
 
 from ..integrator import build
-from . import codegen
-from . import model as symbolic
+from . import codegen, symbolic
+
+__all__ = ["MODEL_LIBRARY_C", "DATA_FILES", "compiled_library", "load_library"]
 
 #: Entry file of the simulation library (in :data:`pedalrepro.integrator.build.CSRC`).
 MODEL_LIBRARY_C = "model_library.c"

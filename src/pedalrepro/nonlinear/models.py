@@ -1,15 +1,17 @@
 """The non-linear thesis models ready to integrate: NT (legs fixed) and NP (legs prescribed).
 
-Each model is a :class:`.numeric.NonlinearModel` built from the bodies of :mod:`.bodies`, with
-the arm loops of CF and HS (:mod:`.arms`, :mod:`.arm_design`).
+Each model is a :class:`.nonlinear_model.NonlinearModel` built from the bodies of
+:mod:`.bodies`, with the arm loops of CF and HS (:mod:`.arms`, :mod:`.arm_design`).
 """
 
 from __future__ import annotations
 
 from .. import params
 from . import bodies
-from .numeric import NonlinearModel, benchmark_matrices
+from .nonlinear_model import NonlinearModel, benchmark_matrices
 from .settings import model_options, model_spec
+
+__all__ = ["nt_model", "np_model", "original_seat_model"]
 
 
 def nt_model(name: str, original_seat: bool = False) -> NonlinearModel:

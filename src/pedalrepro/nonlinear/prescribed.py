@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["FourierSpec"]
+
 
 class FourierSpec:
     """Prescribed motion ``s(t)`` as Fourier series: positions, rates, accelerations.

@@ -16,6 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+__all__ = [
+    "MIRROR_Y", "RigidPart", "point_mass", "parallel_axis", "combine", "subtract", "inertia_tensor",
+    "body_part", "with_body",
+]
+
 #: Reflection in the bicycle's plane of symmetry (y -> -y).
 MIRROR_Y = np.diag([1.0, -1.0, 1.0])
 

@@ -9,7 +9,11 @@ from __future__ import annotations
 from functools import cache
 
 from .. import params, paths
-from . import model as symbolic
+from . import symbolic
+
+__all__ = [
+    "NONLINEAR_MODELS", "settings", "thesis_inputs", "model_spec", "has_arms", "model_options",
+]
 
 #: Models with a non-linear counterpart here. CF and HS have arm loops
 #: (:mod:`pedalrepro.nonlinear.arms`, :mod:`pedalrepro.nonlinear.arm_design`).

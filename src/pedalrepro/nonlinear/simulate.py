@@ -1,8 +1,8 @@
 """Time solutions of a non-linear model under its forcing, through the one fall-event integrator.
 
 :class:`ForcedModel` is a :class:`pedalrepro.integrator.System`: a
-:class:`.numeric.NonlinearModel` with the pedalling torques of Eq 3.14 (harmonics at a cadence)
-and/or its prescribed leg motion (``model.spec``). Its right-hand side runs in Python
+:class:`.nonlinear_model.NonlinearModel` with the pedalling torques of Eq 3.14 (harmonics at a
+cadence) and/or its prescribed leg motion (``model.spec``). Its right-hand side runs in Python
 (``model.rhs``, the reference) or in C (``forced_rhs`` of ``pedalrepro/csrc/model_library.c``:
 the null-space right-hand side with the sampled Dormand-Prince loop, :mod:`.library`); the
 forcing struct is filled by :func:`.forcing.fill_forcing`. :func:`simulate` is the run of the
@@ -19,7 +19,9 @@ import numpy as np
 
 from ..integrator import CompiledRhs, Simulation, harmonic_torque, integrate
 from .forcing import ForcingStruct, fill_forcing
-from .numeric import NonlinearModel
+from .nonlinear_model import NonlinearModel
+
+__all__ = ["ForcedModel", "sample_times", "simulate"]
 
 
 @dataclass
@@ -40,7 +42,7 @@ class ForcedModel:
     Notes
     -----
     State ``[roll, pitch, steer, roll rate, rear wheel rate, steer rate]``
-    (:mod:`.numeric`); ``steer_limit_rad`` is the model's (arm reach of CF).
+    (:mod:`.nonlinear_model`); ``steer_limit_rad`` is the model's (arm reach of CF).
     """
 
     model: NonlinearModel

@@ -17,8 +17,12 @@ import numpy as np
 from .. import spectral
 from ..integrator import Simulation
 from .models import np_model, nt_model
-from .numeric import NonlinearModel
+from .nonlinear_model import NonlinearModel
 from .simulate import simulate
+
+__all__ = [
+    "METHODS", "RunSettings", "run", "model_for", "amplitudes", "time_histories", "grid_runs",
+]
 
 METHODS: tuple[str, ...] = ("NT", "NP")
 

@@ -11,6 +11,8 @@ import numpy as np
 from .. import linear
 from .solver import ConvergenceError, Orbit, OrbitSolver, own_linearisation
 
+__all__ = ["Branch", "continue_branch", "write_branches"]
+
 
 @dataclass
 class Branch:

@@ -10,6 +10,8 @@ import numpy as np
 from .. import response
 from .solver import Orbit, OrbitSolver
 
+__all__ = ["MAP_KEYS", "orbit_map", "write_map", "nested", "write_submap"]
+
 MAP_KEYS = ("roll_amp_rad", "steer_amp_rad", "roll_phase_rad", "steer_phase_rad",
             "max_multiplier_abs", "residual", "peak_roll_rad", "peak_steer_rad",
             "hold_torque_mean_nm", "orbit_time_s", "orbit_cpu_s", "ps_roll_amp_rad",

@@ -46,6 +46,12 @@ from .. import linear, response
 from ..integrator import build
 from ..params import LinearModel
 
+__all__ = [
+    "DATA_FILES", "SPEED_RANGE_M_S", "CADENCE_RANGE_RPM", "METHODS", "LATERAL",
+    "LINEAR_TORQUE_SCALE", "ConvergenceError", "PERIODIC_LIBRARY_C", "own_linearisation", "Orbit",
+    "OrbitSolver", "orbit",
+]
+
 #: The hand-written sources of the periodic-orbit library besides those of the model's
 #: (change tracking).
 DATA_FILES: tuple[str, ...] = ("src/pedalrepro/csrc/periodic_library.c",
@@ -110,10 +116,10 @@ class _Adapter:
     @cache
     def own_linearisation(name: str) -> LinearModel:
         """Eq 3.1 matrices of the NT model linearised about upright motion (complex step)."""
-        from ..nonlinear import numeric
+        from ..nonlinear import nonlinear_model
 
         nl = _Adapter.nt_model(name)
-        mats = numeric.benchmark_matrices(nl)
+        mats = nonlinear_model.benchmark_matrices(nl)
         return LinearModel(f"{name} (own linearisation)", mats["M"], mats["C1"], mats["K0"],
                            mats["K2"], float(nl.bench["g"]))
 

@@ -14,6 +14,8 @@ from .solver import own_linearisation
 if TYPE_CHECKING:
     import pandas as pd
 
+__all__ = ["write_tables", "map_summary", "crossing_table", "simulation_comparison"]
+
 
 def write_tables(map_files, branch_files, time_files, out_maps, out_crossings,
                  out_simulation) -> None:

@@ -45,6 +45,11 @@ import numpy as np
 from .rows import Row
 from .statuses import CALIBRATED, CONSISTENT, DIFFERS, NOT_REPRODUCIBLE, PRECISE_LIMIT, REPRODUCED
 
+__all__ = [
+    "DATA_FILES", "Context", "Kind", "KINDS", "CHECK_KINDS", "Claim", "claims", "claim",
+    "published_value", "check",
+]
+
 #: Data files this module reads by a computed name (pedalrepro.dependencies picks them up as rule
 #: inputs): the claims and the published values they reference.
 DATA_FILES: tuple[str, ...] = ("data/published/claims.yaml", "data/published/thesis_values.yaml",

@@ -18,6 +18,8 @@ from .statuses import (
     STATUSES,
 )
 
+__all__ = ["REPORT_PAGE", "anchor", "status_span", "rows_html", "links_html", "legend_html"]
+
 #: The report page, relative to the book's root (conclusions and deviations link rows on it).
 REPORT_PAGE = "notebooks/reproduction_report.html"
 _COLOURS = {REPRODUCED: "#2e7d32", CONSISTENT: "#1565c0", CALIBRATED: "#8d6e00",

@@ -11,6 +11,11 @@ import pandas as pd
 
 from .statuses import STATUSES
 
+__all__ = [
+    "EXPECTED_STATUS_FILE", "PROFILES", "expected_status", "status_changes", "profile_of",
+    "validate_report", "update_expected_status", "add_cli",
+]
+
 #: Where the expected status of every report row is pinned, per profile (a test expectation).
 EXPECTED_STATUS_FILE = "tests/expected_status.csv"
 #: The profiles with a column in the expected-status file (``profile`` in ``config/*.yaml``).

@@ -12,6 +12,11 @@ import pandas as pd
 
 from .statuses import STATUSES
 
+__all__ = [
+    "COLUMNS", "Row", "write_rows", "combine", "summary", "CHAPTERS", "thesis_chapter",
+    "figure_ids", "figure_coverage", "load", "select", "by_id", "book_pages",
+]
+
 COLUMNS: tuple[str, ...] = (
     "id", "item", "section", "published", "reproduced", "tolerance", "status", "note",
 )

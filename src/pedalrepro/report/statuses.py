@@ -24,6 +24,11 @@ A status is only as strong as its check:
 
 from __future__ import annotations
 
+__all__ = [
+    "REPRODUCED", "CONSISTENT", "CALIBRATED", "DIFFERS", "NOT_REPRODUCIBLE", "STATUSES",
+    "PRECISE_LIMIT", "MEANING",
+]
+
 REPRODUCED = "reproduced"
 CONSISTENT = "consistent"
 CALIBRATED = "calibrated"

@@ -24,6 +24,11 @@ from ..response import Harmonics, harmonic_coefficients
 from .gains import DEFAULT_RULES, GainResult, RuleSettings, rule_gains
 from .plant import N_STATES, Geometry, Plant, closed_matrix, plant
 
+__all__ = [
+    "DATA_FILES", "STEER_MODELS", "model_and_geometry", "GainSweep", "gain_sweep", "rule_gains_at",
+    "published_gains", "closed_loop_matrices", "closed_loop_particular", "closed_loop_time",
+]
+
 #: Read at run time (pedalrepro.dependencies: the rules' code inputs).
 DATA_FILES: tuple[str, ...] = ("data/published/humancontrol_gains.yaml",
                                "data/parameters/humancontrol_browser.yaml")

@@ -31,6 +31,13 @@ from .. import linear, response
 from . import closed_loop
 from .plant import N_STATES, closed_matrix, plant
 
+__all__ = [
+    "VALIDATION_COLUMNS", "GAIN_COLUMNS", "TABLE_4_2_CLOSED_COLUMNS", "DYNAMIC", "HANDS_ON",
+    "HANDS_FREE", "ROLL_TABLE", "SPECTRA_SOURCE", "TABLE_4_1_SOURCE", "rider_of",
+    "hands_free_gains", "rider_gains", "measured_points", "model_amplitudes", "validation_table",
+    "table_4_2_closed", "steer_stiffness_sweep", "TABLE_4_2_KEYS", "matching_stiffness",
+]
+
 VALIDATION_COLUMNS: tuple[str, ...] = (
     "system", "speed_kmh", "cadence_rpm", "source", "quantity", "measured_rad", "open_loop_rad",
     "closed_loop_rad", "rd_open_percent", "rd_closed_percent", "closed_loop_stable",

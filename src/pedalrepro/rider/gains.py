@@ -23,6 +23,11 @@ import numpy as np
 
 from .plant import GAIN_NAMES, Plant, closed_matrix, open_loop_response
 
+__all__ = [
+    "ZETA_DELTA", "ZETA_PHIDOT", "CROSSOVER_RAD_S", "INNER_GUESS", "RuleSettings", "DEFAULT_RULES",
+    "GainResult", "rule_gains", "rule_gains_sweep",
+]
+
 #: Damping ratios of the closed-loop neuromuscular pair (``generate_data.m``).
 ZETA_DELTA = 0.1289
 ZETA_PHIDOT = 0.0855

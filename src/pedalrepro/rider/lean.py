@@ -42,6 +42,14 @@ from .plant import (
     neuromuscular_filter,
 )
 
+__all__ = [
+    "DATA_FILES", "PARAMETER_FILE", "LEAN_STATES", "INPUTS", "PLANT_STATES", "DYNAMIC",
+    "lean_parameters", "lean_state_space", "rigid_rider_state_space", "browser_geometry",
+    "lean_plant", "InnerRuleScan", "inner_rule_scan", "rule_solution", "PHIDOT_GUESSES_S",
+    "LEAN_TABLE_COLUMNS", "best_restoring_gain", "full_rules_from", "lean_rider_row",
+    "lean_rider_table",
+]
+
 #: Read at run time (pedalrepro.dependencies: the rules' code inputs).
 DATA_FILES: tuple[str, ...] = ("data/parameters/mooreriderlean2012_browser_jason.yaml",)
 PARAMETER_FILE = "mooreriderlean2012_browser_jason"

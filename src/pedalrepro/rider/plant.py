@@ -29,6 +29,12 @@ import numpy as np
 from ..linear import state_matrix
 from ..params import LinearModel
 
+__all__ = [
+    "NEURO_FREQ_RAD_S", "NEURO_DAMPING", "LOOPS", "GAIN_NAMES", "STATES", "N_STATES", "Geometry",
+    "Plant", "CONTROL_INPUTS", "neuromuscular_filter", "plant", "control_law", "closed_matrix",
+    "open_loop_response",
+]
+
 #: Neuromuscular natural frequency (rad/s) and damping ratio (Hess et al. 2012).
 NEURO_FREQ_RAD_S = 30.0
 NEURO_DAMPING = 0.707

@@ -10,6 +10,8 @@ import pandas as pd
 
 from .comparison import SPECTRA_SOURCE, TABLE_4_2_KEYS
 
+__all__ = ["report_rows"]
+
 
 def report_rows(t42_closed: pd.DataFrame, benchmark_gains_5: np.ndarray,
                 spectra_reason: str = "") -> list:

@@ -17,7 +17,7 @@ Kane's equations are formed for all eight generalised speeds ``u`` of SymBRiM's
 ``M(q, s) u' = F(q, u, s)`` plus the five velocity constraints ``A(q) u = 0`` (four
 no-slip rolling constraints and the time derivative of the holonomic ground-contact constraint
 of the front wheel) and their time derivative ``A u' + b(q, u) = 0``. The constraint forces are
-resolved numerically (:mod:`pedalrepro.nonlinear.numeric`), which keeps the symbolic
+resolved numerically (:mod:`pedalrepro.nonlinear.nonlinear_model`), which keeps the symbolic
 expressions small. Coordinates that do not enter the dynamics on flat ground (contact-point
 position, yaw, wheel rotation angles) are set to zero in the generated code.
 
@@ -40,6 +40,12 @@ from sympy.physics.mechanics import (
     dynamicsymbols,
     inertia,
 )
+
+__all__ = [
+    "LEG_BODIES", "IGNORABLE_Q", "ROLL", "PITCH", "STEER", "REAR_WHEEL", "ARM_PARAMETERS",
+    "CORRECTION_MATRICES", "U_IND", "U_DEP", "ModelOptions", "SymbolicModel",
+    "correction_parameter_names", "arm_loop_elbow", "derive",
+]
 
 #: Number of prescribed leg/crank bodies: left and right crank, shank, thigh.
 LEG_BODIES: tuple[str, ...] = ("crank_r", "crank_l", "shank_r", "shank_l", "thigh_r", "thigh_l")

@@ -1,4 +1,5 @@
-"""Numeric non-linear bicycle-rider model: state derivative, energy, linearisation.
+"""The numeric non-linear bicycle-rider model, :class:`NonlinearModel`: state derivative,
+energy, linearisation.
 
 State (6): ``x = [roll, pitch, steer, roll rate, rear wheel rate, steer rate]`` (rad, rad/s), the
 three independent coordinates that enter the flat-ground dynamics and the three independent
@@ -26,8 +27,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import codegen, library, model
-from .model import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
+from . import codegen, library, symbolic
+from .symbolic import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
+
+__all__ = [
+    "ZERO_SPEC", "moore_parameters", "correction_parameters", "NonlinearModel",
+    "benchmark_matrices",
+]
 
 ZERO_SPEC: Callable[[float], np.ndarray] | None = None
 
@@ -65,13 +71,13 @@ def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
 
 def correction_parameters(matrices: Mapping[str, np.ndarray] | None) -> dict[str, float]:
     """``lc_*`` parameter values of the linear correction (zeros for ``None``)."""
-    out = dict.fromkeys(model.correction_parameter_names(), 0.0)
+    out = dict.fromkeys(symbolic.correction_parameter_names(), 0.0)
     if matrices is None:
         return out
-    missing = [k for k in model.CORRECTION_MATRICES if k not in matrices]
+    missing = [k for k in symbolic.CORRECTION_MATRICES if k not in matrices]
     if missing:
         raise KeyError(f"linear correction matrices missing: {missing}")
-    for k in model.CORRECTION_MATRICES:
+    for k in symbolic.CORRECTION_MATRICES:
         mat = np.asarray(matrices[k], dtype=float)
         if mat.shape != (2, 2) or not np.all(np.isfinite(mat)):
             raise ValueError(f"linear correction {k} must be a finite 2 x 2 matrix, got {mat!r}")
@@ -93,17 +99,17 @@ class NonlinearModel:
         Symbolic model options (prescribed legs or not).
     leg_parameters
         With legs: lateral position ``<body>_y`` (m), mass ``<body>_m`` (kg) and transverse
-        moment of inertia ``<body>_I`` (kg m^2) of each body of :data:`model.LEG_BODIES`.
+        moment of inertia ``<body>_I`` (kg m^2) of each body of :data:`symbolic.LEG_BODIES`.
     spec
         With legs: ``t -> s`` the prescribed motion (positions, rates, accelerations; the
         order of the generated ``SPEC`` list).
     linear_correction
         Optional benchmark-form matrices ``{"M", "C1", "K0", "K2"}`` (2 x 2 each, Eq 3.1)
-        added to the roll and steer equations (:func:`model._add_linear_correction`), e.g. to
+        added to the roll and steer equations (:func:`symbolic._add_linear_correction`), e.g. to
         study a model whose linearisation must equal given matrices. ``None`` (every thesis
         model): no correction.
     arm_parameters
-        With arms (``options.arms``): the values of :data:`model.ARM_PARAMETERS`
+        With arms (``options.arms``): the values of :data:`symbolic.ARM_PARAMETERS`
         (:func:`pedalrepro.nonlinear.bodies.model_bodies`).
     steer_limit_rad
         Runs end like a fall when ``|steer|`` reaches this angle (arm loops: beyond it the arms
@@ -111,7 +117,7 @@ class NonlinearModel:
     """
 
     bench: dict[str, float]
-    options: model.ModelOptions = field(default_factory=model.ModelOptions)
+    options: symbolic.ModelOptions = field(default_factory=symbolic.ModelOptions)
     leg_parameters: dict[str, float] = field(default_factory=dict)
     spec: Callable[[float], np.ndarray] | None = None
     linear_correction: Mapping[str, np.ndarray] | None = None
