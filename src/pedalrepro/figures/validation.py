@@ -31,8 +31,9 @@ from .palette import MEASURED_COLOUR, model_colour
 
 __all__ = [
     "SYSTEM_FIGURES", "ExampleRun", "PSMap", "LEVELS", "time_series", "frequency_domain",
-    "fig_4_10", "fig_4_11", "SYSTEMS", "draw_time_series", "draw_frequency_domain", "draw_fig_4_10",
-    "draw_fig_4_11", "real_run_panel", "no_real_run", "draw_real_run_panel",
+    "SPECTRA_LABEL", "SPECTRA_MARKER", "SpectraPoints", "fig_4_10", "fig_4_11", "SYSTEMS",
+    "draw_time_series", "draw_frequency_domain", "draw_fig_4_10", "draw_fig_4_11",
+    "real_run_panel", "no_real_run", "draw_real_run_panel",
 ]
 
 SYSTEM_FIGURES = {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
