@@ -64,9 +64,9 @@ rule linear_time_la:
         fall_roll_rad=config["linear"]["fall_roll_rad"],
     threads: 1
     log:
-        logfile("linear_time_LA"),
+        logfile("linear_time_la"),
     benchmark:
-        bench("linear_time_LA")
+        bench("linear_time_la")
     message:
         "Analytic time solutions (LA) of {params.models} on the time grid"
     script:
@@ -90,9 +90,9 @@ rule linear_time_ln:
         tolerances=cfg("linear", "rtol", "atol", "tight_rtol", "tight_atol"),
     threads: 1
     log:
-        logfile("linear_time_LN"),
+        logfile("linear_time_ln"),
     benchmark:
-        bench("linear_time_LN")
+        bench("linear_time_ln")
     message:
         "Numerical time solutions (LN) of {params.models} on the time grid"
     script:

@@ -64,7 +64,7 @@ CHAPTER_4_INPUTS = dict(
 rule validation_tables:
     input:
         **CHAPTER_4_INPUTS,
-        code=code_inputs("scripts/mocap_tables.py"),
+        code=code_inputs("scripts/validation_tables.py"),
     output:
         t41=table("table_4_1"),
         t42=table("table_4_2"),
@@ -77,7 +77,7 @@ rule validation_tables:
     message:
         "Tables 4.1 and 4.2: measured vs open-loop model cadence amplitudes"
     script:
-        "scripts/mocap_tables.py"
+        "scripts/validation_tables.py"
 
 
 # The report rows of chapter 4 (claims.yaml): a rule of their own that only reads, so that no

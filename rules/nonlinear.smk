@@ -27,21 +27,21 @@ CODEGEN_VARIANTS = ["plain", "legs", "arms", "legs_arms"]
 
 rule nonlinear_codegen_variant:
     input:
-        code=code_inputs("scripts/nonlinear_codegen.py"),
+        code=code_inputs("scripts/nonlinear_codegen_variant.py"),
     output:
         interm("nonlinear/codegen/{variant}.txt"),
     wildcard_constraints:
         variant="|".join(CODEGEN_VARIANTS),
     threads: 1
     log:
-        logfile("nonlinear_codegen_{variant}"),
+        logfile("nonlinear_codegen_variant_{variant}"),
     benchmark:
-        bench("nonlinear_codegen_{variant}")
+        bench("nonlinear_codegen_variant_{variant}")
     message:
         "Deriving the non-linear model variant {wildcards.variant} with SymBRiM and generating "
         "its code (cached on disk: once)"
     script:
-        "scripts/nonlinear_codegen.py"
+        "scripts/nonlinear_codegen_variant.py"
 
 
 rule nonlinear_codegen:
@@ -107,7 +107,7 @@ rule nonlinear_linearisation:
 
 rule nonlinear_time_chunk:
     input:
-        code=code_inputs("scripts/nonlinear_time.py"),
+        code=code_inputs("scripts/nonlinear_time_chunk.py"),
         codegen=interm("nonlinear/codegen.txt"),
         calibration=NONLINEAR_CALIBRATION,
     output:
@@ -123,21 +123,21 @@ rule nonlinear_time_chunk:
         chunk=r"\d+",
     threads: 1
     # longest first; before a first run here, NP (moving legs: dearer right-hand side) first
-    priority: longest_first("nonlinear_time_{method}_{model}_{chunk}", lambda wc: wc.method == "NP")
+    priority: longest_first("nonlinear_time_chunk_{method}_{model}_{chunk}", lambda wc: wc.method == "NP")
     log:
-        logfile("nonlinear_time_{method}_{model}_{chunk}"),
+        logfile("nonlinear_time_chunk_{method}_{model}_{chunk}"),
     benchmark:
-        bench("nonlinear_time_{method}_{model}_{chunk}")
+        bench("nonlinear_time_chunk_{method}_{model}_{chunk}")
     message:
         "Non-linear time solutions ({wildcards.method}) of {wildcards.model}, speed chunk "
         "{wildcards.chunk}"
     script:
-        "scripts/nonlinear_time.py"
+        "scripts/nonlinear_time_chunk.py"
 
 
 rule nonlinear_time:
     input:
-        code=code_inputs("scripts/nonlinear_merge.py"),
+        code=code_inputs("scripts/nonlinear_time.py"),
         chunks=lambda wc: expand(interm("nonlinear/chunks/{method}_{model}_{chunk}.npz"),
                                  method=wc.method, model=wc.model,
                                  chunk=range(NONLINEAR_CHUNKS)),
@@ -159,7 +159,7 @@ rule nonlinear_time:
         "Joining the {wildcards.method} sweep of {wildcards.model} (chunk 0 carries its six "
         "example runs)"
     script:
-        "scripts/nonlinear_merge.py"
+        "scripts/nonlinear_time.py"
 
 
 rule nonlinear_rd:

@@ -12,7 +12,7 @@ OWN_STEM = f"{OWN_BICYCLE['bicycle']}_{OWN_BICYCLE['rider']}"
 rule own_bicycle_resonance:
     input:
         # the script, its import closure and the example's files (own_bicycle.DATA_FILES)
-        code=code_inputs("scripts/own_bicycle.py"),
+        code=code_inputs("scripts/own_bicycle_resonance.py"),
         data_dir=OWN_DATA_DIR,
     output:
         map=table(f"own_bicycle/{OWN_STEM}_resonance_map"),
@@ -31,7 +31,7 @@ rule own_bicycle_resonance:
     message:
         "Your own bicycle: eigenvalues and PS resonance map of {params.bicycle} + {params.rider}"
     script:
-        "scripts/own_bicycle.py"
+        "scripts/own_bicycle_resonance.py"
 
 
 BOOK_INPUTS.extend(rules.own_bicycle_resonance.output)

@@ -110,7 +110,7 @@ def main() -> None:
                       f"simulation sweep ({settings.duration_s:g} s runs) {sim_cpu:.1f} s CPU, "
                       f"orbits {orb_cpu:.1f} s CPU (ratio {sim_cpu / orb_cpu:.1f})")
     bench = Path(args.results) / "benchmarks"
-    sweep_s, sweep_cpu, n_sweep = job_seconds(bench, "nonlinear_time_N[TP]_*_*.tsv")
+    sweep_s, sweep_cpu, n_sweep = job_seconds(bench, "nonlinear_time_chunk_N[TP]_*_*.tsv")
     maps_s, maps_cpu, n_maps = job_seconds(bench, "periodic_map_thesis_*.tsv")
     if n_sweep:
         print(f"today's NT + NP simulation sweeps: {sweep_s:.0f} s of job time, {sweep_cpu:.0f} "

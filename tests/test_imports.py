@@ -170,7 +170,7 @@ def test_tests_and_scripts_use_no_private_helper(folder):
 
 
 def test_sweep_jobs_import_no_scipy():
-    """The NT/NP sweep jobs (rules/scripts/nonlinear_time.py and nonlinear_merge.py: 8 jobs
+    """The NT/NP sweep jobs (rules/scripts/nonlinear_time_chunk.py and nonlinear_time.py: 8 jobs
     each on the thesis grid, ~1 s of start-up apiece) import no scipy module: the compiled
     integrator, the numpy Hann window and the lazy scipy.optimize imports of
     pedalrepro.linear keep it out (scipy.optimize alone cost ~0.5 s per job)."""

@@ -104,9 +104,9 @@ def test_merge_chunks_restores_the_grid_in_speed_order():
 
 
 def test_the_writers_of_the_time_files_use_the_module():
-    """LA/LN (linear_time.py) and NT/NP (nonlinear_merge.py) write through timesolution.write."""
+    """LA/LN (linear_time.py) and NT/NP (nonlinear_time.py) write through timesolution.write."""
     from pedalrepro import paths
 
-    for name in ("linear_time.py", "nonlinear_merge.py"):
+    for name in ("linear_time.py", "nonlinear_time.py"):
         text = (paths.ROOT / "rules" / "scripts" / name).read_text()
         assert "timesolution.write(" in text and "np.savez" not in text, name

@@ -210,7 +210,7 @@ def test_benchmark_files_give_the_longest_first_priorities(quick_workflow, tmp_p
     benchmark files: every NT/NP sweep job of the quick run has one with a wall time between 0
     and the whole run's; a missing, empty or garbled file gives None (the rule's fallback)."""
     assert quick_workflow.returncode == 0
-    files = sorted((quick_workflow.results / "benchmarks").glob("nonlinear_time_N*_*_0.tsv"))
+    files = sorted((quick_workflow.results / "benchmarks").glob("nonlinear_time_chunk_N*_*_0.tsv"))
     assert len(files) == 8  # NT and NP of HS, CF, HR, CR, 1 chunk (config/quick.yaml)
     seconds = [paths.last_runtime_s(f) for f in files]
     assert all(s is not None and 0 < s < quick_workflow.elapsed_s for s in seconds), seconds

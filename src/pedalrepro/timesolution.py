@@ -3,8 +3,8 @@ its writer and its reader.
 
 Every method's sweep over the speed-cadence grid is written to
 ``results/intermediate/time/<method>_<model>.npz`` by :func:`write` (rule scripts
-``rules/scripts/linear_time.py`` for LA and LN, ``rules/scripts/nonlinear_merge.py`` for NT and
-NP, which joins the speed chunks of ``rules/scripts/nonlinear_time.py`` with
+``rules/scripts/linear_time.py`` for LA and LN, ``rules/scripts/nonlinear_time.py`` for NT and
+NP, which joins the speed chunks of ``rules/scripts/nonlinear_time_chunk.py`` with
 :func:`merge_chunks`), and read back by :func:`read` (the figure registry). Both check the keys:
 a file without a key of :data:`REQUIRED`, or with a grid array of the wrong shape, is refused
 with the file and the key named.
@@ -81,7 +81,7 @@ OPTIONAL: dict[str, tuple[str, ...]] = {
     "n_rhs": ("n_v", "n_w"),
 }
 
-#: Grid arrays a chunk of an NT/NP sweep carries (``rules/scripts/nonlinear_time.py``).
+#: Grid arrays a chunk of an NT/NP sweep carries (``rules/scripts/nonlinear_time_chunk.py``).
 CHUNK_GRID_KEYS: tuple[str, ...] = ("roll_amp_rad", "steer_amp_rad", "t_end_s", "fell", "n_rhs")
 
 
