@@ -162,10 +162,18 @@ def _time_figure(fid: str, function: str, model: str, coord: str, group: str, fi
               complete_when=[(f"time.{m}", key) for m in TIME_METHODS])
 
 
-for _k, (_m, _c) in enumerate([(m, c) for m in MODELS4 for c in ("roll", "steer")]):
+# (time-history figure, its spectrum figure, model, coordinate): Figs 3.10-3.17 and 3.20-3.27
+for _ft, _ff, _m, _c in (("fig_3_10", "fig_3_20", "HS", "roll"),
+                         ("fig_3_11", "fig_3_21", "HS", "steer"),
+                         ("fig_3_12", "fig_3_22", "CF", "roll"),
+                         ("fig_3_13", "fig_3_23", "CF", "steer"),
+                         ("fig_3_14", "fig_3_24", "HR", "roll"),
+                         ("fig_3_15", "fig_3_25", "HR", "steer"),
+                         ("fig_3_16", "fig_3_26", "CR", "roll"),
+                         ("fig_3_17", "fig_3_27", "CR", "steer")):
     _ps = {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}
-    _time_figure(f"fig_3_{10 + _k}", "linear.fig_ps_time", _m, _c, "linear_time", _ps)
-    _time_figure(f"fig_3_{20 + _k}", "linear.fig_fft", _m, _c, "linear_spectra", _ps)
+    _time_figure(_ft, "linear.fig_ps_time", _m, _c, "linear_time", _ps)
+    _time_figure(_ff, "linear.fig_fft", _m, _c, "linear_spectra", _ps)
 for _fid, _m, _c in (("fig_g_1", "HS", "roll"), ("fig_g_2", "CF", "roll"),
                      ("fig_g_3", "CF", "steer"), ("fig_g_4", "HR", "roll"),
                      ("fig_g_5", "HR", "steer"), ("fig_g_6", "CR", "roll")):
@@ -197,8 +205,9 @@ _register("fig_e_1", "nonlinear", "nonlinear", "nonlinear.fig_e_1",
           {"cf": _i("nonlinear/eigen_cf_own.npz"),
            "cf_original_seat": _i("nonlinear/eigen_cf_original_seat.npz")})
 # Not thesis figures: the six example runs of NT against NP per model (the book's Sec 3.4).
-for _m in MODELS4:
-    _register(f"nonlinear_examples_{_m}", "nonlinear", "nonlinear", "nonlinear.example_runs",
+for _fid, _m in (("nonlinear_examples_HS", "HS"), ("nonlinear_examples_CF", "CF"),
+                ("nonlinear_examples_HR", "HR"), ("nonlinear_examples_CR", "CR")):
+    _register(_fid, "nonlinear", "nonlinear", "nonlinear.example_runs",
               {"nt": _i(f"time/NT_{_m}.npz"), "np_": _i(f"time/NP_{_m}.npz")}, {"model": _m})
 _register("nonlinear_linearisation_vs_appendix_b", "nonlinear", "nonlinear",
           "nonlinear.fig_linearisation_vs_appendix_b",
@@ -222,8 +231,9 @@ _register("real_run_panel", "validation", "validation", "validation.draw_real_ru
 
 
 # ---- periodic orbits (beyond the thesis; pedalrepro.periodic, rules/periodic.smk) -------------
-for _m in MODELS4:
-    _register(f"periodic_maps_{_m}", "periodic", "periodic", "periodic.fig_orbit_maps",
+for _fid, _m in (("periodic_maps_HS", "HS"), ("periodic_maps_CF", "CF"),
+                ("periodic_maps_HR", "HR"), ("periodic_maps_CR", "CR")):
+    _register(_fid, "periodic", "periodic", "periodic.fig_orbit_maps",
               {**{f"orbits.{k}": _i(f"periodic/thesis_{k}_{_m}.npz") for k in PERIODIC_METHODS},
                **{f"sims.{k}": _i(f"time/{k}_{_m}.npz") for k in PERIODIC_METHODS}},
               {"model": _m, "methods": PERIODIC_METHODS},
