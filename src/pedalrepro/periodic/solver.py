@@ -445,19 +445,57 @@ class OrbitSolver:
                 G.append(sign * f["G"] if last else f["G"])
         out = {"R": R, "quad": quad, "peak": peak, "n_rhs": n_rhs}
         if variational:
-            J = np.zeros((4 * m, 4 * m))
-            H = np.eye(4)
-            for k in range(m):
-                J[4 * k:4 * k + 4, 4 * k:4 * k + 4] += G[k]
-                nxt = 0 if k == m - 1 else k + 1
-                J[4 * k:4 * k + 4, 4 * nxt:4 * nxt + 4] -= np.eye(4)
-                H = G[k] @ H
-            out["J"], out["H"] = J, H
+            out["J"], out["H"] = _shooting_jacobian(G)
         return out
+
+    def linear_jacobian(self, speed_m_s: float, m: int) -> np.ndarray:
+        """Jacobian of the shooting equations on ``m`` segments for the upright motion of the
+        model's own linearisation: every segment's ``G`` is ``expm(A(v) T_s / m)`` (the last one
+        with the half-period sign). The orbit's Jacobian differs from it by the non-linear terms
+        (relative O(amplitude^2) for NT; for NP also the legs' periodic inertia), so chord steps
+        with it contract the residual by about that factor per step (:meth:`solve`)."""
+        g = _expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
+        sign = -1.0 if self.half_period else 1.0
+        return _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
+
+    def _chord_start(self, nodes: np.ndarray, atol: np.ndarray, goal: float,
+                     max_steps: int = 6) -> tuple[np.ndarray, int, int]:
+        """Chord steps with :meth:`linear_jacobian` from ``nodes``, integrating the state only
+        (a fifth of the cost of an evaluation with the variational equations), until the next
+        iterate is predicted to meet ``goal`` (the absolute residual of convergence) from the
+        observed contraction, or the contraction is poor (then the best iterate so far).
+        Returns the nodes at which Newton with the variational equations continues, the chord
+        evaluations and their right-hand-side count. The variational equations (Jacobian,
+        monodromy, Floquet multipliers) are then integrated at an iterate that is already on
+        the orbit to about ``goal`` instead of at the particular-solution start."""
+        m = nodes.shape[0]
+        try:
+            inv = np.linalg.inv(self.linear_jacobian(self.speed_m_s, m))
+        except np.linalg.LinAlgError:
+            return nodes, 0, 0
+        best, prev, total, k = nodes, np.inf, 0, 0
+        for k in range(1, max_steps + 1):
+            try:
+                ev = self.residual(nodes, variational=False, atol=atol)
+            except (FloatingPointError, ZeroDivisionError):
+                return best, k, total
+            total += ev["n_rhs"]
+            res = float(np.max(np.abs(ev["R"])))
+            if not np.isfinite(res) or res > 0.3 * prev:
+                return best, k, total  # poor contraction: Newton from the best iterate
+            best = nodes
+            if res <= goal:
+                return nodes, k, total
+            rate = res / prev if np.isfinite(prev) else 1e-2
+            nodes = nodes - (inv @ ev["R"].ravel()).reshape(m, 4)
+            prev = res
+            if rate * res <= 0.3 * goal:
+                return nodes, k, total
+        return nodes, k, total
 
     def solve(self, speed_m_s: float, start: np.ndarray | None = None, *,
               segments: int | None = None, max_iter: int = 12, tol: float = 1e-10,
-              switch: float = 1e-6) -> Orbit:
+              switch: float = 1e-6, chord_start: bool = True) -> Orbit:
         """Periodic orbit at ``speed_m_s`` by Newton from ``start`` (nodes) or the PS.
 
         ``segments``: 1 for single shooting; default :meth:`segments_for`. ``tol``: relative
@@ -465,9 +503,15 @@ class OrbitSolver:
         variational equations (Jacobian and monodromy) are integrated while the relative
         residual exceeds ``switch``; closer to the orbit the last Jacobian is reused (chord
         steps), so the Floquet multipliers belong to an iterate within ``switch`` of the orbit.
-        Returns an :class:`Orbit` with ``converged`` False when Newton fails (never raises for
-        that). A torque scale below :data:`LINEAR_TORQUE_SCALE` (0 included) gives the orbit at
-        that scale scaled linearly (amplitudes, nodes, residual and peaks by the ratio of the
+        With ``chord_start`` (default) Newton is preceded by chord steps with the Jacobian of
+        the model's own linearisation (:meth:`_chord_start`, state only): the first evaluation
+        with the variational equations is then usually already on the orbit (converged), one
+        instead of two or three such evaluations per orbit (a variational evaluation costs
+        about four state-only ones), and the multipliers belong to the converged iterate.
+        ``iterations`` counts the chord evaluations too. Returns an :class:`Orbit` with
+        ``converged`` False when Newton fails (never raises for that). A torque scale below
+        :data:`LINEAR_TORQUE_SCALE` (0 included) gives the orbit at that scale scaled
+        linearly (amplitudes, nodes, residual and peaks by the ratio of the
         scales, the mean holding torque by its square, phases and multipliers unchanged; at
         scale 0 the amplitudes are 0 and the phases those of the limit).
         """
@@ -475,7 +519,8 @@ class OrbitSolver:
         if self._linear_proxy is not None:
             return self._scaled(self._linear_proxy.solve(speed_m_s, segments=segments,
                                                          max_iter=max_iter, tol=tol,
-                                                         switch=switch))
+                                                         switch=switch,
+                                                         chord_start=chord_start))
         if start is not None:
             nodes = np.array(start, float).reshape(-1, 4)
             m = nodes.shape[0]
@@ -484,9 +529,12 @@ class OrbitSolver:
             nodes = self.ps_state(speed_m_s, self.node_times(m)[:-1])
         scale = max(float(np.max(np.abs(nodes))), 1e-300)
         atol = self.rtol * np.array([scale, 1.0, scale, scale, scale])
+        chord, total = 0, 0
+        if chord_start:
+            nodes, chord, total = self._chord_start(nodes, atol, tol * scale)
         best_res, best_nodes, best_ev = np.inf, nodes, None
         jac = None
-        total, it, ok, prev_res, why = 0, 0, False, np.inf, ""
+        it, ok, prev_res, why = 0, False, np.inf, ""
         for it in range(max_iter + 1):
             need = jac is None or best_res > switch * scale
             try:
@@ -514,10 +562,10 @@ class OrbitSolver:
                 break
             nodes = nodes + step
         if best_ev is None or jac is None:
-            out = self._failed(best_nodes, m, it, total)
+            out = self._failed(best_nodes, m, it + chord, total)
         else:
             out = self._orbit(best_nodes, dict(best_ev, H=jac["H"]), best_res,
-                              ok and best_res <= 1e-9, it, total)
+                              ok and best_res <= 1e-9, it + chord, total)
         if not out.converged:
             out.failure = why or f"{it} Newton iterations"
         return out
@@ -553,6 +601,36 @@ class OrbitSolver:
         return Orbit(self.model, self.method, self.speed_m_s, self.omega_rad_s, self.torque_scale,
                      nodes, nan, nan, nan, nan, np.full(4, nan + 0j), float("inf"), False, it, m,
                      self.half_period, nan, nan, nan, total)
+
+
+def _expm(a: np.ndarray) -> np.ndarray:
+    """Matrix exponential of a small matrix by scaling and squaring of its Taylor series (18
+    terms at norm <= 1/2: truncation below 1e-20 relative; scipy's expm took 6 ms per 4 x 4
+    here, more than the chord evaluation it serves)."""
+    s = max(0, int(np.ceil(np.log2(max(np.linalg.norm(a, 1), 1e-300) / 0.5))))
+    b = a / 2.0**s
+    out, term = np.eye(a.shape[0]), np.eye(a.shape[0])
+    for k in range(1, 19):
+        term = term @ b / k
+        out = out + term
+    for _ in range(s):
+        out = out @ out
+    return out
+
+
+def _shooting_jacobian(G: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Jacobian of the shooting equations ``z_{k+1}(z_k) - z_{k+1} = 0`` (the last one closing
+    on the first node) from the segments' ``G_k = dz_{k+1}/dz_k``, and their product (the
+    monodromy matrix of the shooting interval)."""
+    m = len(G)
+    J = np.zeros((4 * m, 4 * m))
+    H = np.eye(4)
+    for k in range(m):
+        J[4 * k:4 * k + 4, 4 * k:4 * k + 4] += G[k]
+        nxt = 0 if k == m - 1 else k + 1
+        J[4 * k:4 * k + 4, 4 * nxt:4 * nxt + 4] -= np.eye(4)
+        H = G[k] @ H
+    return J, H
 
 
 def orbit(model: str, method: str, speed_m_s: float, cadence_rad_s: float, **kw) -> Orbit:
