@@ -49,7 +49,7 @@ from ..params import LinearModel
 __all__ = [
     "DATA_FILES", "SPEED_RANGE_M_S", "CADENCE_RANGE_RPM", "METHODS", "LATERAL",
     "LINEAR_TORQUE_SCALE", "ConvergenceError", "PERIODIC_LIBRARY_C", "own_linearisation", "Orbit",
-    "OrbitSolver", "orbit",
+    "OrbitSolver", "orbit", "small_expm",
 ]
 
 #: The hand-written sources of the periodic-orbit library besides those of the model's
@@ -454,7 +454,7 @@ class OrbitSolver:
         with the half-period sign). The orbit's Jacobian differs from it by the non-linear terms
         (relative O(amplitude^2) for NT; for NP also the legs' periodic inertia), so chord steps
         with it contract the residual by about that factor per step (:meth:`solve`)."""
-        g = _expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
+        g = small_expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
         sign = -1.0 if self.half_period else 1.0
         return _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
 
@@ -603,7 +603,7 @@ class OrbitSolver:
                      self.half_period, nan, nan, nan, total)
 
 
-def _expm(a: np.ndarray) -> np.ndarray:
+def small_expm(a: np.ndarray) -> np.ndarray:
     """Matrix exponential of a small matrix by scaling and squaring of its Taylor series (18
     terms at norm <= 1/2: truncation below 1e-20 relative; scipy's expm took 6 ms per 4 x 4
     here, more than the chord evaluation it serves)."""
