@@ -14,8 +14,8 @@ hand. Everything here is a static reading of the sources (:mod:`ast`; nothing is
   ``params._parameter_file(name)``) or through a :mod:`pedalrepro.paths` constant
   (``paths.STYLE``) are declared in a module-level tuple of repository-relative paths,
   ``DATA_FILES = ("data/parameters/legs.yaml",)`` (a folder stands for every file under it).
-  ``tests/test_change_tracking.py`` checks the declarations against the files each rule really
-  opens in the end-to-end run, so they cannot drift from the code.
+  ``tests/workflow/test_change_tracking.py`` checks the declarations against the files each rule
+  really opens in the end-to-end run, so they cannot drift from the code.
 * **notebooks**: the code cells of ``.ipynb`` files are read like a script.
 """
 
