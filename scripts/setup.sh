@@ -40,7 +40,7 @@ if [ "$BROWSER" = 1 ] && ! command -v chromium >/dev/null 2>&1; then
   command -v chromium >/dev/null 2>&1 \
     || echo "setup: chromium not found; install Debian's chromium for the browser test" >&2
 fi
-# SLURM for tests/test_cluster.py: daemons and clients only; the test writes its own slurm.conf
+# SLURM for tests/workflow/test_cluster.py: daemons and clients only; the test writes its own slurm.conf
 # and MUNGE key into a temporary folder and starts (and stops) the daemons itself.
 if [ "$CLUSTER" = 1 ] && ! { [ -x /usr/sbin/slurmctld ] && [ -x /usr/sbin/munged ]; }; then
   apt_install slurm-wlm munge

@@ -13,8 +13,9 @@ def published() -> dict:
     return params.published()
 
 
-# --- The end-to-end quick-profile run (book part), shared by tests/test_workflow.py and
-# --- tests/test_book_browser.py so the browser test checks the very book the workflow built.
+# --- The end-to-end quick-profile run (book part), shared by the tests of tests/workflow/
+# --- (test_workflow.py, test_book_browser.py, test_section2_workflow.py, ...) and the built-book
+# --- tests, so the browser test checks the very book the workflow built.
 @pytest.fixture(scope="session")
 def quick_workflow():
     """Run ``snakemake -j2 --configfile config/quick.yaml`` once per session into a fresh results
@@ -23,7 +24,7 @@ def quick_workflow():
 
     Every pedalrepro process of the run records the files and modules it reads into
     ``<results>.trace/`` (``PEDALREPRO_TRACE``, tests/trace/sitecustomize.py; checked by
-    tests/test_change_tracking.py).
+    tests/workflow/test_change_tracking.py).
 
     Returns a namespace: results, returncode, log, elapsed_s, trace."""
     import os

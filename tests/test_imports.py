@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from pedalrepro import dependencies
+
 SRC = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = "pedalrepro"
 
@@ -31,30 +33,10 @@ def modules() -> dict[str, Path]:
     return {module_name(p): p for p in sorted((SRC / PACKAGE).rglob("*.py"))}
 
 
-def _resolve(name: str, node: ast.ImportFrom, path: Path) -> str:
-    """Absolute module named by ``from <level dots><module> import ...`` in ``name``."""
-    if node.level == 0:
-        return node.module or ""
-    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
-    base = package[: len(package) - (node.level - 1)]
-    return ".".join(base + ([node.module] if node.module else []))
-
-
-def imports(name: str, path: Path, known: set[str]) -> list[tuple[str, str, int]]:
-    """(imported module, imported attribute or "", line) for every import in the module."""
-    out = []
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
-        if isinstance(node, ast.Import):
-            out += [(a.name, "", node.lineno) for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            target = _resolve(name, node, path)
-            for a in node.names:
-                sub = f"{target}.{a.name}"
-                if sub in known:  # from . import submodule
-                    out.append((sub, "", node.lineno))
-                else:
-                    out.append((target, a.name, node.lineno))
-    return [(m, attr, line) for m, attr, line in out if m == PACKAGE or m.startswith(PACKAGE + ".")]
+def imports(path: Path) -> list[tuple[str, str, int]]:
+    """(imported module, imported attribute or "", line) for every import of the package in the
+    module: the package's own scanner (``pedalrepro.dependencies.import_statements``)."""
+    return dependencies.import_statements(path, SRC / PACKAGE)
 
 
 def graph() -> dict[str, set[str]]:
@@ -62,7 +44,7 @@ def graph() -> dict[str, set[str]]:
     known = set(mods)
     edges: dict[str, set[str]] = {m: set() for m in mods}
     for name, path in mods.items():
-        for target, _, _ in imports(name, path, known):
+        for target, _, _ in imports(path):
             # importing pedalrepro.x.y runs pedalrepro.x's __init__ too; the edge that matters
             # for a cycle is to the module itself
             if target in known and target != name:
@@ -128,11 +110,9 @@ def test_no_import_cycles_in_pedalrepro():
 
 
 def _private_uses() -> list[str]:
-    mods = modules()
-    known = set(mods)
     bad = []
-    for name, path in mods.items():
-        for target, attr, line in imports(name, path, known):
+    for name, path in modules().items():
+        for target, attr, line in imports(path):
             if attr.startswith("_") and not attr.startswith("__") and target != name:
                 bad.append(f"{path.relative_to(SRC)}:{line} imports {target}.{attr}")
     return bad
@@ -149,14 +129,14 @@ def test_tests_and_scripts_use_no_private_helper(folder):
     """``module._name`` attribute access or ``from pedalrepro.x import _name`` outside src."""
     root = SRC.parent / folder
     bad = []
-    for path in sorted(root.glob("*.py")):
+    for path in sorted(root.rglob("*.py")):  # tests/: the subfolders mirroring src/ too
         tree = ast.parse(path.read_text(), str(path))
         aliases = set()
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom) and (node.module or "").startswith(PACKAGE):
                 for a in node.names:
                     if a.name.startswith("_") and not a.name.startswith("__"):
-                        bad.append(f"{path.name}:{node.lineno} imports {a.name}")
+                        bad.append(f"{path.relative_to(root)}:{node.lineno} imports {a.name}")
                     aliases.add(a.asname or a.name)
             elif isinstance(node, ast.Import):
                 aliases |= {(a.asname or a.name).split(".")[0] for a in node.names
@@ -165,7 +145,8 @@ def test_tests_and_scripts_use_no_private_helper(folder):
             if (isinstance(node, ast.Attribute) and node.attr.startswith("_")
                     and not node.attr.startswith("__") and isinstance(node.value, ast.Name)
                     and node.value.id in aliases):
-                bad.append(f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}")
+                bad.append(f"{path.relative_to(root)}:{node.lineno} "
+                           f"uses {node.value.id}.{node.attr}")
     assert not bad, f"private helpers of pedalrepro used in {folder}: " + "; ".join(bad)
 
 

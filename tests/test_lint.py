@@ -1,6 +1,6 @@
 """CONTRIBUTING's checkable rules: ``ruff check .`` is clean, notebooks included.
 
-(``snakemake --lint`` is checked in tests/test_workflow.py.)
+(``snakemake --lint`` is checked in tests/workflow/test_workflow.py.)
 """
 
 from __future__ import annotations

@@ -438,7 +438,7 @@ def canonical(value: Any) -> Any:
     in another key order (``--configfile`` merges put the overriding file's keys first; another
     tool may write the merged YAML sorted) would plan the rule again as "params have changed".
     The Snakefile puts the configuration in this form once, after validation, so a rule reruns
-    exactly when a value it reads changes (tests/test_change_tracking.py)."""
+    exactly when a value it reads changes (tests/workflow/test_change_tracking.py)."""
     if isinstance(value, Mapping):
         return {k: canonical(value[k]) for k in sorted(value)}
     if isinstance(value, list):

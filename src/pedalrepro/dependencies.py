@@ -14,8 +14,8 @@ hand. Everything here is a static reading of the sources (:mod:`ast`; nothing is
   ``params._parameter_file(name)``) or through a :mod:`pedalrepro.paths` constant
   (``paths.STYLE``) are declared in a module-level tuple of repository-relative paths,
   ``DATA_FILES = ("data/parameters/legs.yaml",)`` (a folder stands for every file under it).
-  ``tests/test_change_tracking.py`` checks the declarations against the files each rule really
-  opens in the end-to-end run, so they cannot drift from the code.
+  ``tests/workflow/test_change_tracking.py`` checks the declarations against the files each rule
+  really opens in the end-to-end run, so they cannot drift from the code.
 * **notebooks**: the code cells of ``.ipynb`` files are read like a script.
 """
 
@@ -31,8 +31,8 @@ from . import paths
 
 __all__ = [
     "DECLARATION", "PACKAGE_DIR", "PACKAGE", "python_source", "module_file", "module_name",
-    "imported_modules", "import_closure", "declared_files", "LOCATION_MODULES", "referenced_files",
-    "code_inputs",
+    "import_statements", "imported_modules", "import_closure", "declared_files",
+    "LOCATION_MODULES", "referenced_files", "code_inputs",
 ]
 
 #: Name of the module-level tuple declaring the files a module reads (repository-relative).
@@ -101,22 +101,25 @@ def _parents(name: str) -> list[str]:
     return [".".join(parts[: i + 1]) for i in range(len(parts))]
 
 
-def imported_modules(path: Path, package_dir: Path = PACKAGE_DIR) -> set[str]:
-    """Package modules imported anywhere in ``path`` (one level, not followed)."""
+def import_statements(path: Path, package_dir: Path = PACKAGE_DIR) -> list[tuple[str, str, int]]:
+    """Every import of the package in ``path`` (imports inside functions included), in file order.
+
+    One ``(module, name, line)`` per imported name: ``import pedalrepro.x`` and ``from pedalrepro
+    import x`` where ``x`` is a submodule give ``("pedalrepro.x", "", line)``; ``from pedalrepro.x
+    import y`` where ``y`` is not a module gives ``("pedalrepro.x", "y", line)``. Relative imports
+    are resolved against the file's own module name (and skipped outside the package); imports of
+    other packages are left out. The one import scanner of the project: :func:`imported_modules`
+    (change tracking) and ``tests/test_imports.py`` (cycles, private helpers) both read it.
+    """
     path = Path(path).resolve()
     own = module_name(path, package_dir)
     is_pkg = path.name == "__init__.py"
-    found: set[str] = set()
-
-    def add(name: str) -> None:
-        for parent in _parents(name):
-            if module_file(parent, package_dir) is not None:
-                found.add(parent)
-
+    package = package_dir.name
+    found: list[tuple[str, str, int]] = []
     for node in ast.walk(_tree(path)):
         if isinstance(node, ast.Import):
-            for alias in node.names:
-                add(alias.name)
+            found += [(alias.name, "", node.lineno) for alias in node.names
+                      if alias.name.split(".")[0] == package]
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 if own is None:
@@ -126,14 +129,22 @@ def imported_modules(path: Path, package_dir: Path = PACKAGE_DIR) -> set[str]:
                 stem = ".".join(base + ([node.module] if node.module else []))
             else:
                 stem = node.module or ""
-            if stem.split(".")[0] != package_dir.name:
+            if stem.split(".")[0] != package:
                 continue
-            add(stem)
-            for alias in node.names:  # `from pkg import module`
+            for alias in node.names:
                 candidate = f"{stem}.{alias.name}"
-                if module_file(candidate, package_dir) is not None:
-                    add(candidate)
+                if module_file(candidate, package_dir) is not None:  # `from pkg import module`
+                    found.append((candidate, "", node.lineno))
+                else:
+                    found.append((stem, alias.name, node.lineno))
     return found
+
+
+def imported_modules(path: Path, package_dir: Path = PACKAGE_DIR) -> set[str]:
+    """Package modules imported anywhere in ``path`` (one level, not followed), with their
+    packages (importing ``a.b.c`` runs ``a`` and ``a.b`` too); from :func:`import_statements`."""
+    return {parent for module, _, _ in import_statements(path, package_dir)
+            for parent in _parents(module) if module_file(parent, package_dir) is not None}
 
 
 def import_closure(sources: Iterable[str | Path],

@@ -68,7 +68,7 @@ def stratos_geometry() -> dict[str, float]:
     """Batavus Stratos steer geometry derived from its raw measurements.
 
     ``lam = 90 deg - gamma``, ``rF = dF / (2 pi nF)``, trail ``c = (rF sin(lam) - f) / cos(lam)``
-    (BicycleParameters' geometry relations; tested in ``tests/test_backbone.py``).
+    (BicycleParameters' geometry relations; tested in ``tests/test_params.py``).
 
     Returns
     -------

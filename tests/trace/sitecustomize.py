@@ -1,4 +1,5 @@
-"""Record what a process really reads (for tests/test_change_tracking.py; off unless asked).
+"""Record what a process really reads (for tests/workflow/test_change_tracking.py; off unless
+asked).
 
 Loaded by the tests, never by the package: the session fixture ``quick_workflow``
 (tests/conftest.py) puts this folder first on ``PYTHONPATH`` and sets ``PEDALREPRO_TRACE=<folder>``

@@ -9,7 +9,7 @@
    e = [0; -A_dep^-1 b], satisfy (B^T M B) u'_ind = B^T (F - M e), since A B = 0). One LU
    factorisation of A_dep serves the speeds and the accelerations; the reduced system is 3 x 3
    instead of 13 x 13. The Python reference (NonlinearModel.accelerations) solves the 13 x 13
-   system: the two agree to rounding (tests/test_nonlinear.py).
+   system: the two agree to rounding (tests/nonlinear/test_nonlinear.py).
 
    Simulation state x = [roll, pitch, steer, u_roll, u_rear, u_steer] (model_rhs). Periodic
    orbits hold the rear-wheel rate (model_held_rhs): state y = [roll, pitch, steer, u_roll,

@@ -192,7 +192,7 @@ def particle_steer_term(positions, lam_rad: float, h: float = 1e-4) -> float:
     the rear or front frame ``K0[1,1] - K0[0,1] sin(lam)`` vanishes (Meijaard et al. 2007); a
     particle moving relative to both adds ``m (-z'' + sin(lam) y')`` (z down, derivatives with
     respect to the steer angle at zero steer; central differences, error ~h^2). Checked against
-    the non-linear model's linearisation for CF's arm loops (tests/test_calibration.py).
+    the non-linear model's linearisation for CF's arm loops (tests/nonlinear/test_calibration.py).
     """
     p0, pp, pm = positions(0.0), positions(h), positions(-h)
     out = 0.0

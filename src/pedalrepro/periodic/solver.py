@@ -69,7 +69,8 @@ LATERAL = (0, 2, 3, 4)
 #: O(scale^2) ~ 1e-12 relative. Smaller orbits are not: at 1e-300 the states no longer control
 #: the step size, the variational equations go unresolved and HR at 5 m/s came out unstable
 #: (largest multiplier modulus 16.3). Floquet multipliers are those of that orbit, equal to the
-#: upright motion's exp(lambda T) of the linearisation to ~1e-8 (tests/test_periodic_inputs.py).
+#: upright motion's exp(lambda T) of the linearisation to ~1e-8
+#: (tests/periodic/test_periodic_inputs.py).
 LINEAR_TORQUE_SCALE = 1e-6
 
 

@@ -11,7 +11,7 @@ ignorable ones (longitudinal position, wheel angles, rear-wheel rate) are droppe
 
 with inputs ``[T4 roll torque, T7 steer torque, T9 lean torque]`` (N m; T9 acts between the
 upper body and the rear frame). Signs and the heading/lateral kinematics are those of
-Meijaard et al. (2007) (checked in ``tests/test_rider_lean.py``: locking the lean joint gives
+Meijaard et al. (2007) (checked in ``tests/rider/test_rider_lean.py``: locking the lean joint gives
 the Whipple model of the Browser with a rigid Jason).
 
 The hands-free rider (:func:`lean_plant`) is the loop structure of

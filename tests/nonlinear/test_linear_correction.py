@@ -2,7 +2,8 @@
 
 Expected values: Meijaard et al. (2007) plus an arbitrary correction for the correction terms,
 and the benchmark roll inertia formula (Meijaard 2007, T_xx) for the seat change of the rigid
-city rider. HS and CF have their own arm loops (tests/test_arms.py, tests/test_calibration.py).
+city rider. HS and CF have their own arm loops (tests/nonlinear/test_arms.py,
+tests/nonlinear/test_calibration.py).
 """
 
 from __future__ import annotations

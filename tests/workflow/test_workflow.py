@@ -1,7 +1,7 @@
 """End to end: the quick profile builds the whole book from a fresh results folder.
 
 The run itself is the session fixture ``quick_workflow`` (tests/conftest.py), shared with the
-browser test (tests/test_book_browser.py), which then opens that very book.
+browser test (tests/workflow/test_book_browser.py), which then opens that very book.
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ TIME_KEYS = ("speed_m_s", "omega_rad_s", "roll_amp_rad", "steer_amp_rad", "t_end
 @pytest.fixture(scope="module")
 def results(quick_workflow):
     if quick_workflow.returncode != 0:
-        pytest.fail("the quick workflow failed (see tests/test_workflow.py)")
+        pytest.fail("the quick workflow failed (see tests/workflow/test_workflow.py)")
     return quick_workflow.results
 
 

@@ -4,7 +4,7 @@ A zero torque scale is the upright straight-ahead motion: zero amplitude, and Fl
 multipliers exp(lambda T) of the model's own linearisation at that speed (the monodromy of an
 equilibrium). A tiny scale (1e-300) is the same orbit scaled: amplitudes proportional to the
 scale. Tolerances: the multipliers are eigenvalues of a monodromy computed with forward
-differences (~1e-8 of the spectral radius, tests/test_periodic.py), checked at 1e-6; the
+differences (~1e-8 of the spectral radius, tests/periodic/test_periodic.py), checked at 1e-6; the
 amplitudes per unit scale of a directly solved 1e-5 orbit differ from the linear limit by the
 non-linear terms, O(1e-5^2) relative, and the integration's ~1e-9: checked at 1e-6. Before the
 fix, scale 0 gave |mu| 16.3 at HR 5 m/s (unstable; the upright motion is stable there) and NaN

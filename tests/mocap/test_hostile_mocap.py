@@ -4,7 +4,7 @@ A record shorter than the measured minimum analysable length (``runs.MIN_SEGMENT
 on run 3045 by scripts/measure_min_length.py) is refused as too short, whole or between gaps;
 a non-finite, negative or above-Nyquist low-pass cut-off is refused naming the option; a valid
 input gives the result of the equivalent valid input. The stand-in run is the seeded HR run of
-tests/test_mocap_real.py; the real run is the public subset's 3045 (skipped without it).
+tests/mocap/test_mocap_real.py; the real run is the public subset's 3045 (skipped without it).
 """
 
 from __future__ import annotations

@@ -119,7 +119,7 @@ class LocalSlurm:
         r = self.root
         self.ctld_port = _free_port()
         self.conf.write_text(f"""\
-# One-node SLURM for tests/test_cluster.py (temporary; no accounting database).
+# One-node SLURM for tests/workflow/test_cluster.py (temporary; no accounting database).
 ClusterName=pedalrepro-test
 SlurmctldHost={self.node}(127.0.0.1)
 SlurmctldPort={self.ctld_port}

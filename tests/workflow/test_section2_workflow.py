@@ -1,11 +1,7 @@
-"""The Section 2 rules end to end (quick profile, a temporary results folder)."""
+"""The Section 2 rules end to end: the outputs of the shared quick-profile run (``quick_workflow``,
+tests/conftest.py; ``config/quick.yaml``, the profile this file used to run on its own)."""
 
 from __future__ import annotations
-
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import matplotlib
 import matplotlib.image
@@ -13,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pedalrepro import figures, paths, report
+from pedalrepro import figures, report
 from pedalrepro.figures import section2
 
 pytestmark = pytest.mark.workflow
@@ -22,20 +18,13 @@ FIGURES = ("fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5", "fig_2_6", "fig_2_7", "fi
 
 
 @pytest.fixture(scope="module")
-def section2_run(tmp_path_factory):
-    results = tmp_path_factory.mktemp("s2")
-    targets = [f"{results}/tables/table_d_1.csv", f"{results}/tables/section2_numbers.csv",
-               f"{results}/tables/report/section2.csv",
-               f"{results}/intermediate/section2/disturbance_city.npz"]
-    targets += [f"{results}/figures/{f}.png" for f in FIGURES]
-    env = dict(os.environ)
-    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
-    env.pop("PEDALREPRO_RESULTS", None)
-    cmd = [sys.executable, "-m", "snakemake", "-j1", "--nolock", *targets,
-           "--configfile", "config/quick.yaml", "--config", f"results_dir={results}"]
-    proc = subprocess.run(cmd, cwd=paths.ROOT, env=env, capture_output=True, text=True)
-    assert proc.returncode == 0, (proc.stdout + proc.stderr)[-4000:]
-    return results
+def section2_run(quick_workflow):
+    """The results folder of the shared quick-profile run (conftest.py): the book's inputs
+    include every file read here (rules/section2.smk: Table D.1, the section-2 numbers, both
+    bicycles' disturbance arrays, the report part; rules/figures.smk: every registry figure)."""
+    if quick_workflow.returncode != 0:
+        pytest.fail("the quick workflow failed (see tests/workflow/test_workflow.py)")
+    return quick_workflow.results
 
 
 def test_table_d_1_csv(section2_run, published):
