@@ -306,6 +306,45 @@ def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
     plt.close("all")
 
 
+def test_save_lays_out_once_and_matches_savefig_tight(tmp_path):
+    """figures.save lays the figure out once at the PNG's dpi and freezes it: the PNG has the
+    size matplotlib's own ``savefig(bbox_inches="tight")`` gives to 1 px, the axes keep the
+    positions of that one layout (to 1e-12), and the layout engine is off afterwards."""
+    import struct
+
+    from pedalrepro.figures import page
+
+    def make():
+        with figures.style():
+            fig, axes = plt.subplots(2, 2, figsize=(7.0, 5.0), layout="constrained")
+            for k, ax in enumerate(axes.flat):
+                ax.pcolormesh(np.arange(12.0).reshape(3, 4) * (k + 1))
+                ax.set_title(f"panel {k}")
+                ax.set_xlabel("forward speed v (m/s)")
+            fig.colorbar(axes[0, 0].collections[0], ax=axes, label="amplitude (rad)")
+            fig.suptitle("a title")
+        return fig
+
+    ref = make()
+    with figures.style():
+        ref.savefig(tmp_path / "ref.png")
+    ref_pos = [ax.get_position().bounds for ax in ref.axes]
+    fig = make()
+    page.save(fig, tmp_path / "new.png")
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    assert not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine)
+    np.testing.assert_allclose([ax.get_position().bounds for ax in fig.axes], ref_pos,
+                               atol=1e-12)
+
+    def size(name):
+        return struct.unpack(">II", (tmp_path / name).read_bytes()[16:24])
+
+    assert np.max(np.abs(np.subtract(size("new.png"), size("ref.png")))) <= 1
+    assert (tmp_path / "new.pdf").stat().st_size > 0
+    plt.close("all")
+
+
 def test_overlapping_colour_bars_are_found():
     """Two colour bars on one spot (the periodic maps' fault, issue 25) are found from the drawn
     bounding boxes; two side by side, each beside its own axes, are not."""
