@@ -5,6 +5,7 @@
 # drawing. TIME_METHODS (rules/linear.smk, extended by rules/nonlinear.smk) says which optional
 # time-solution files (NT, NP) this build has.
 from pedalrepro import figdata as FIGDATA
+from pedalrepro import params as PARAMS
 from pedalrepro.figures import registry as FIGURE_REGISTRY
 
 FIGURE_IDS = FIGURE_REGISTRY.ids()
@@ -14,7 +15,7 @@ FIGURE_IDS = FIGURE_REGISTRY.ids()
 FIGURE_SCRIPT_CODE = code_inputs("scripts/figures.py")
 
 LINEAR_FIGURE_DATA = ["gear_grid", "cam_HS", "gear_sections_models", "gear_sections_benchmark"] + [
-    f"neglected_{m}" for m in ("HS", "CF", "HR", "CR")]
+    f"neglected_{m}" for m in PARAMS.MODELS]
 
 
 rule linear_figure_data:

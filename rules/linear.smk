@@ -2,7 +2,12 @@
 # eigen analysis, particular solution (PS), time solutions (LA analytic, LN numerical), RD maps,
 # Table 4.1 model columns and the report part (the figures: rules/figures.smk).
 
-LINEAR_MODELS = list(config["linear"]["models"])
+from pedalrepro import params as PARAMS
+
+# The linear models, fixed by the thesis (pedalrepro.params.LINEAR_MODELS: the Meijaard benchmark
+# and the four systems of pedalrepro.params.MODELS); not configurable (another bicycle: rule
+# own_bicycle_resonance, config section own_bicycle).
+LINEAR_MODELS = list(PARAMS.LINEAR_MODELS)
 # Time solutions and RD maps: the four thesis models (the benchmark has PS and eigen figures only).
 LINEAR_TIME_MODELS = [m for m in LINEAR_MODELS if m != "benchmark"]
 # Time-solution methods drawn in fig_3_10 .. fig_3_33, fig_g_*, fig_h_*. rules/nonlinear.smk

@@ -9,7 +9,7 @@ Measures (thesis profile: 180 s at 100 Hz, config/config.yaml tolerances):
    tolerances;
 2. the full NT + NP sweep (4 models x 676 points x 2 methods) with 2 workers, extrapolated from
    runs on a sub-grid (every ``stride``-th speed and cadence) of the thesis grid for the models
-   of config ``nonlinear.models`` (CF and HS carry arm loops).
+   of ``pedalrepro.params.MODELS``, the four systems (CF and HS carry arm loops).
    The measured full sweep is Snakemake's own benchmark files (results/benchmarks/nonlinear_*).
 Nothing is written; the numbers are printed.
 """
@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from pedalrepro import config, response
+from pedalrepro import config, params, response
 from pedalrepro.integrator import SPACAR_ATOL, SPACAR_RTOL
 from pedalrepro.nonlinear import models, sweep
 from pedalrepro.nonlinear.simulate import simulate
@@ -69,7 +69,7 @@ def main() -> None:
     w_forced = w[w > 0]
     vs, ws = v[:: args.sample_stride], w_forced[:: args.sample_stride]
     per_run = []
-    for name in cfg["nonlinear"]["models"]:
+    for name in params.MODELS:
         hm = response.forcing(name, lin["harmonics"])
         for method in sweep.METHODS:
             out, dt = timed(sweep.grid_runs, method, name, vs, ws, hm, settings)
@@ -78,7 +78,7 @@ def main() -> None:
             print(f"{method} {name}: {n} sampled runs in {dt:.1f} s ({dt / n:.3f} s/run, "
                   f"{int(out['fell'].sum())} fell)")
     mean = float(np.mean(per_run))
-    n_models = len(cfg["nonlinear"]["models"])
+    n_models = len(params.MODELS)
     n_full = n_models * v.size * w_forced.size * 2
     print(f"mean time per run on the sub-grid: {mean:.3f} s")
     print(f"full NT + NP sweep, {n_models} models x {v.size * w.size} x 2 ({n_full} forced "

@@ -9,7 +9,7 @@ Measures on this machine (nothing is written; the numbers are printed):
    ``--stride``-th speed and cadence) for each of ``--methods`` and ``--models`` (model set-up
    and the compiled driver's build excluded; NP includes building its leg motion per cadence);
 2. the full orbit map time of those models and methods, extrapolated to the four models of
-   ``nonlinear.models`` when fewer are measured;
+   ``pedalrepro.params.MODELS`` when fewer are measured;
 3. side by side on every ``--sweep-stride``-th speed and cadence, the CPU time of today's NT/NP
    simulation sweep (``sweep.grid_runs``, the thesis profile's 180 s runs) and of the orbits;
 4. the job time of today's NT + NP sweeps and of the periodic map jobs from
@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pedalrepro import config, periodic, response
+from pedalrepro import config, params, periodic, response
 
 
 def job_seconds(folder: Path, pattern: str) -> tuple[float, float, int]:
@@ -84,7 +84,7 @@ def main() -> None:
                   f"max residual {np.nanmax(out['residual'][conv]):.1e}, mean Newton iterations "
                   f"{np.mean(out['iterations'][forced]):.2f}, map {elapsed:.1f} s wall, "
                   f"{map_cpu[f'{method}_{model}']:.1f} s CPU")
-    n_models = len(cfg["nonlinear"]["models"])
+    n_models = len(params.MODELS)
     scale = n_models / len(args.models) * args.stride**2
     total = sum(map_s.values()) * scale
     total_cpu = sum(map_cpu.values()) * scale

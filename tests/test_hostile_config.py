@@ -136,10 +136,8 @@ def test_workflow_with_results_dir_config_is_refused_and_config_unchanged(tmp_pa
 
 @pytest.mark.parametrize("key, value, repeated", [
     ("linear.harmonics", [1, 1, 3, 5], "1"),   # doubled every time-domain amplitude (rc 0)
-    ("linear.models", ["HR", "HR"], "HR"),
     ("linear.gear_ratios", [1, 2, 2.0, 4], "2"),
     ("mocap.stand_in_gear_ratios", [1.6, 1.6], "1.6"),
-    ("nonlinear.models", ["HS", "CF", "HS"], "HS"),
     ("periodic.methods", ["NT", "NT"], "NT"),
     ("periodic.fine_methods", ["NT", "NT"], "NT"),
     ("periodic.continuation_methods", ["NP", "NP"], "NP"),
@@ -153,6 +151,27 @@ def test_repeated_list_items_are_refused(cfg, key, value, repeated):
     with pytest.raises(config.ConfigError, match=rf"{re.escape(key)}: .* repeats {repeated}"):
         config.check(cfg)
     assert msg
+
+
+@pytest.mark.parametrize("key, value, fixed_by", [
+    ("linear.models", ["benchmark", "HR"], "pedalrepro.params.LINEAR_MODELS"),
+    ("nonlinear.models", ["HR"], "pedalrepro.params.MODELS"),
+])
+def test_model_lists_are_refused_with_the_reason(cfg, key, value, fixed_by):
+    """The model lists left the configuration (issue 26, part 4): the thesis fixes them and every
+    figure and notebook covers all of them. An old config still setting one is refused, naming
+    the key, why, and where another bicycle goes, not with the schema's "unknown key"."""
+    section, name = key.split(".")
+    cfg[section][name] = value
+    msg = refused(cfg, key, "retired keys (refused, not ignored)",
+                  f"{key}: the {'non-' if section == 'nonlinear' else ''}linear models are fixed "
+                  f"by the thesis ({fixed_by}", "pedalrepro.params.MODELS", "remove the key",
+                  "pedalrepro.own_bicycle (rule own_bicycle_resonance")
+    assert "Additional properties" not in msg, msg
+    # the shipped profiles and the schema no longer have the key
+    for f in ("config.yaml", "quick.yaml", "schema.yaml"):
+        text = (paths.CONFIG / f).read_text()
+        assert not re.search(rf"^\s+{name}:", text, re.M), f
 
 
 @pytest.mark.parametrize("value", [[3, 1, 5], [3, 5], [1, 5, 3]])
@@ -307,7 +326,7 @@ def test_trailing_slash_is_the_same_folder(cfg):
 @pytest.mark.parametrize("section, key, value, fragment", [
     ("linear", "sample_rate_hz", 1.0, "Nyquist"),
     ("linear", "rtol", "1e-3", "is not of type 'number'"),
-    ("linear", "models", ["HR", "XX"], "'XX' is not one of"),
+    ("linear", "harmonics", [1, 0], "less than the minimum of 1"),
     ("linear", "extra_key", 1, "Additional properties are not allowed"),
     ("nonlinear", "chunks", 0, "less than the minimum of 1"),
     ("nonlinear", "method", "Euler", "'Euler' is not one of"),

@@ -29,7 +29,7 @@ check = report.check
 if "benchmark" in eig.index:
     rows.append(check("benchmark.weave_speed", eig.loc["benchmark", "weave_speed_m_s"]))
     rows.append(check("benchmark.capsize_speed", eig.loc["benchmark", "capsize_speed_m_s"]))
-stable = {m: not np.isnan(eig.loc[m, "stable_from_m_s"]) for m in ("HS", "CF", "HR", "CR")
+stable = {m: not np.isnan(eig.loc[m, "stable_from_m_s"]) for m in params.MODELS
           if m in eig.index}
 if len(stable) == 4:
     got = ", ".join(f"{m} {'yes' if s else 'no'}" for m, s in stable.items())
@@ -83,7 +83,7 @@ if "benchmark" in ps:
                            "(truncated: 3.435 would round to 3.44), tolerance 0.01"))
 
 # --- amplitude ranges -----------------------------------------------------------------------
-for m in ("HS", "CF", "HR", "CR"):
+for m in params.MODELS:
     if m not in ps:
         continue
     p = ps[m]
@@ -96,7 +96,7 @@ for m in ("HS", "CF", "HR", "CR"):
                           key="steer_HS" if (m, coord) == ("HS", "steer") else coord,
                           note="'around' read as within a factor 1.5; median over the "
                                "normal-cycling ellipse of the PS grid"))
-for m in ("HS", "CF", "HR", "CR"):
+for m in params.MODELS:
     if m not in ps:
         continue
     h = response.forcing(m, snakemake.params.harmonics)
@@ -129,14 +129,14 @@ def median_check(claim_id, row, note, **fields):
 runs = (f"profile {profile}: {lin['duration_s']:g} s runs at {lin['sample_rate_hz']:g} Hz "
         "(the RD shrinks with the run length)")
 for point in ("2b", "3b"):
-    for m in ("HS", "CF", "HR", "CR"):
+    for m in params.MODELS:
         for coord in ("roll", "steer"):
             row = rd_row(m, point, coord, "self-stable")
             if row is not None:
                 rows.append(median_check(f"rd_{point}.{{model}}.{{coord}}", row,
                                          f"over the self-stable region of the time grid; {runs}",
                                          model=m, coord=coord))
-for m in ("HS", "CF", "HR", "CR"):
+for m in params.MODELS:
     for coord in ("roll", "steer"):
         row = rd_row(m, "3a", coord, "self-stable")
         if row is not None:
@@ -144,14 +144,14 @@ for m in ("HS", "CF", "HR", "CR"):
                 "rd_3a.{model}.{coord}", row, f"ode45-like RK45, rtol {lin['rtol']:g}, atol "
                 f"{lin['atol']:g}; profile {profile}: {lin['duration_s']:g} s runs",
                 model=m, coord=coord))
-for m in ("HS", "CF", "HR", "CR"):
+for m in params.MODELS:
     for coord in ("roll", "steer"):
         row = rd_row(m, "1c", coord, "v<=1 m/s, w>=3pi rad/s")
         if row is not None:
             rows.append(median_check(
                 "rd_1c.{model}.{coord}", row, "region v <= 1 m/s, w >= 3 pi rad/s (the thesis's "
                 "'very low speeds and very high cadences')", model=m, coord=coord))
-for m in ("HS", "CF", "HR", "CR"):
+for m in params.MODELS:
     for coord in ("roll", "steer"):
         row = rd_row(m, "4", coord, "normal cycling")
         if row is not None:

@@ -32,6 +32,7 @@ from . import paths, yamlio
 __all__ = [
     "DATA_FILES", "SYSTEM_ROOTS", "COPY_NAME", "SOURCE_ENTRIES", "STEP_MAXIMA",
     "PERIODIC_STEP_MAXIMA", "GRID_CAPS", "MAX_TIME_SAMPLES", "UNIQUE_LISTS", "INCREASING_RANGES",
+    "RETIRED_KEYS",
     "grid_count", "ConfigError", "read_yaml", "validate", "source_entries", "source_owner",
     "check_results_dir", "check", "load", "merge", "canonical", "write", "results_config",
 ]
@@ -87,9 +88,27 @@ MAX_TIME_SAMPLES = 1_800_100
 #: harmonic doubles its torque, a repeated model or method repeats jobs and report rows). Also
 #: ``uniqueItems`` in config/schema.yaml; checked here too so the message names the item.
 UNIQUE_LISTS: tuple[str, ...] = (
-    "linear.harmonics", "linear.models", "linear.gear_ratios", "mocap.stand_in_gear_ratios",
-    "nonlinear.models", "periodic.methods", "periodic.fine_methods",
+    "linear.harmonics", "linear.gear_ratios", "mocap.stand_in_gear_ratios",
+    "periodic.methods", "periodic.fine_methods",
     "periodic.continuation_methods", "periodic.continuation_torque_scales")
+#: Keys the configuration no longer has, with the reason given when a configuration sets one (an
+#: old config file, a --config override): refused by :func:`validate` before the schema, whose
+#: "additional properties" message would not say why. The model lists are fixed by the thesis
+#: (pedalrepro.params; not imported here, so that the parameter files stay out of rule
+#: write_config's inputs).
+RETIRED_KEYS: dict[str, str] = {
+    "linear.models": (
+        "the linear models are fixed by the thesis (pedalrepro.params.LINEAR_MODELS: the Meijaard "
+        "2007 benchmark and the four systems of pedalrepro.params.MODELS, Sec 3.1.1.3, Appendix "
+        "B), since every figure, table and notebook of the book covers all of them"),
+    "nonlinear.models": (
+        "the non-linear models are fixed by the thesis (pedalrepro.params.MODELS: the four "
+        "systems of Sec 3.1.1.3, each with a non-linear model), since every figure, table and "
+        "notebook of the book covers all of them"),
+}
+#: What to do instead, added to each :data:`RETIRED_KEYS` message.
+_RETIRED_ADVICE = ("; remove the key. To study another bicycle, use pedalrepro.own_bicycle (rule "
+                   "own_bicycle_resonance, command `pedalrepro resonance`)")
 #: ``[low, high]`` ranges that must increase.
 INCREASING_RANGES: tuple[str, ...] = (
     "linear.normal_cycling_speed_kmh", "linear.normal_cycling_cadence_rpm",
@@ -108,6 +127,11 @@ def _get(config: Mapping[str, Any], dotted: str) -> Any:
     return config[section][key]
 
 
+def _has(config: Mapping[str, Any], dotted: str) -> bool:
+    section, key = dotted.split(".")
+    return isinstance(config.get(section), Mapping) and key in config[section]
+
+
 class ConfigError(ValueError):
     """A configuration value outside the schema or the cross-key rules (the message names it)."""
 
@@ -122,8 +146,14 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
 def validate(config: dict[str, Any], schema_path: str | Path | None = None) -> dict[str, Any]:
     """Validate ``config`` against the JSON schema, raising :class:`ConfigError` with the key path.
 
-    Returns the same mapping (defaults are not filled in here; the schema documents them).
+    A key of :data:`RETIRED_KEYS` is refused first, with its reason. Returns the same mapping
+    (defaults are not filled in here; the schema documents them).
     """
+    retired = [f"  {key}: {reason}{_RETIRED_ADVICE}" for key, reason in RETIRED_KEYS.items()
+               if _has(config, key)]
+    if retired:
+        raise ConfigError("configuration sets retired keys (refused, not ignored):\n"
+                          + "\n".join(retired))
     schema = read_yaml(schema_path or paths.CONFIG / "schema.yaml")
     validator = jsonschema.Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(config), key=lambda e: list(e.absolute_path))

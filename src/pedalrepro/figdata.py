@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from . import gears, linear, momentum
+from . import gears, linear, momentum, params
 from .response import forcing, grid, particular_solution, select
 
 __all__ = [
@@ -43,7 +43,7 @@ def gear_grid(speed_m_s: np.ndarray, omega_rad_s: np.ndarray, gear_ratios: Seque
     model's bicycle (Fig 3.35)."""
     ev, ew = gears.normal_cycling_ellipse(normal_cycling_speed_kmh, normal_cycling_cadence_rpm)
     radii = {f"wheel_radius_{m}_m": np.float64(gears.wheel_radius_m(linear.bicycle_of(m)))
-             for m in ("benchmark", "HS", "CF", "HR", "CR")}
+             for m in params.LINEAR_MODELS}
     return dict(speed_m_s=speed_m_s, omega_rad_s=omega_rad_s,
                 gear_ratios=np.asarray(gear_ratios, float),
                 wheel_radius_m=np.float64(gears.wheel_radius_m("city")), **radii,
@@ -139,8 +139,7 @@ def write_linear(outputs: Mapping[str, str], lin: Mapping) -> None:
         elif name.startswith("neglected_"):
             data = neglected_momenta(name.removeprefix("neglected_"), v, w, h, grs)
         elif name.startswith("gear_sections_"):
-            models = (("benchmark",) if name == "gear_sections_benchmark"
-                      else ("HS", "CF", "HR", "CR"))
+            models = (("benchmark",) if name == "gear_sections_benchmark" else params.MODELS)
             data = gear_sections(models, eigen_v, grs, lin["ps_omega_max_rad_s"], h)
         else:
             raise KeyError(f"unknown figure-data file {name!r}")
@@ -174,7 +173,6 @@ def validation(per_run, series: Mapping[str, np.ndarray], speed_m_s: np.ndarray,
     speed and cadence, ``spectra_roll_model_rad``, ``spectra_steer_model_rad``: the open-loop
     column of ``closed_loop_validation.csv`` (:func:`pedalrepro.rider.comparison.validation_table`
     solves the same model at the same points), absent when there are no spectra."""
-    from . import params
     from . import validation as val
 
     v, w = np.asarray(speed_m_s, float), np.asarray(omega_rad_s, float)

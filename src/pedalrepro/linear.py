@@ -31,7 +31,7 @@ __all__ = [
 ]
 
 #: Model names accepted by :func:`linear_model`.
-MODEL_NAMES: tuple[str, ...] = ("benchmark", *params.MODELS)
+MODEL_NAMES: tuple[str, ...] = params.LINEAR_MODELS
 #: Mode names, in the order of the columns of :attr:`EigenSweep.eigenvalues`.
 MODE_NAMES: tuple[str, ...] = ("weave", "weave", "capsize", "caster")
 

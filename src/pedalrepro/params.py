@@ -18,8 +18,9 @@ import numpy as np
 from . import paths, yamlio
 
 __all__ = [
-    "DATA_FILES", "MODELS", "BICYCLE_OF_MODEL", "read_yaml", "benchmark_parameters",
-    "stratos_geometry", "steer_geometry", "legs", "LinearModel", "appendix_b_model", "published",
+    "DATA_FILES", "MODELS", "LINEAR_MODELS", "BICYCLE_OF_MODEL", "read_yaml",
+    "benchmark_parameters", "stratos_geometry", "steer_geometry", "legs", "LinearModel",
+    "appendix_b_model", "published",
 ]
 
 #: Files read under a computed name (``_parameter_file(name)``; see pedalrepro.dependencies):
@@ -27,9 +28,18 @@ __all__ = [
 DATA_FILES: tuple[str, ...] = ("data/parameters/appendix_b.yaml", "data/parameters/benchmark.yaml",
                                "data/parameters/browser.yaml", "data/parameters/legs.yaml",
                                "data/parameters/stratos.yaml")
-#: Thesis model names (Sec 3.1.1.3): H = hybrid (Batavus Stratos), C = city (Batavus Browser);
-#: S = straight arms on the handlebars, F = flexed arms, R = rigid upper body, hands free.
+#: The thesis's four bicycle-rider systems (Sec 3.1.1.3, Appendix B; the treadmill runs of Sec
+#: 4.1): H = hybrid (Batavus Stratos), C = city (Batavus Browser); S = straight arms on the
+#: handlebars, F = flexed arms, R = rigid upper body, hands free. THE model list of the project:
+#: every rule, figure, table and notebook covers exactly these (each has a non-linear
+#: counterpart, CF and HS with arm loops), so the list is fixed, not configured (config keys
+#: ``linear.models`` and ``nonlinear.models`` are refused, pedalrepro.config.RETIRED_KEYS). A
+#: user's own bicycle goes through :mod:`pedalrepro.own_bicycle` (rule ``own_bicycle_resonance``,
+#: command ``pedalrepro resonance``).
 MODELS: tuple[str, ...] = ("HS", "CF", "HR", "CR")
+#: The linear models analysed (Sec 3.1.1, 3.2): the Meijaard et al. (2007) benchmark (eigen and
+#: PS figures only; thesis Appendix B's reference) and the four systems of :data:`MODELS`.
+LINEAR_MODELS: tuple[str, ...] = ("benchmark", *MODELS)
 #: The bicycle of each model, as named in ``legs.yaml`` ``seat_geometry``.
 BICYCLE_OF_MODEL: dict[str, str] = {"HS": "hybrid", "HR": "hybrid", "CF": "city", "CR": "city"}
 

@@ -31,7 +31,7 @@ from .palette import (
 )
 
 __all__ = [
-    "Arrays", "ALL_TIME_METHODS", "MODELS4", "AMP_LEVELS", "RD_LEVELS_PERCENT", "WIDTH_IN",
+    "Arrays", "ALL_TIME_METHODS", "AMP_LEVELS", "RD_LEVELS_PERCENT", "WIDTH_IN",
     "zoom_window", "eigen_panel", "fig_eigenvalues", "fig_gear_grid", "fig_ps_time",
     "fig_series_time", "fig_fft", "fig_series_fft", "fig_cam_time", "fig_neglected_momenta",
     "fig_amplitude_maps", "fig_gear_sections", "fig_benchmark_ps", "rd_norm", "rd_colorbar",
@@ -42,7 +42,6 @@ Arrays = Mapping[str, np.ndarray]
 
 #: Every time-solution method of the thesis (Sec 3.1.2); the linear part makes LA and LN.
 ALL_TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
-MODELS4 = ("HS", "CF", "HR", "CR")
 AMP_LEVELS = np.linspace(0.0, 0.04, 9)
 #: Linear RD levels (percent) for the parameter comparisons of evaluation points 4-6.
 RD_LEVELS_PERCENT = np.array([0, 5, 10, 25, 50, 75, 100, 150, 200])

@@ -274,7 +274,10 @@ def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "",
 # entry points of the figure registry: loaded files in, a Figure out
 # --------------------------------------------------------------------------------------------
 
-SYSTEMS = ("HS", "CF", "HR", "CR")
+#: The systems of the model maps, in the order of :data:`SYSTEM_FIGURES` (the thesis's four,
+#: pedalrepro.params.MODELS; not imported: this module stays free of the parameter files, so the
+#: validation figures do not rerun when one changes; tests/test_backbone.py pins the two equal).
+SYSTEMS: tuple[str, ...] = tuple(SYSTEM_FIGURES)
 
 
 def _reason(source: dict) -> str:

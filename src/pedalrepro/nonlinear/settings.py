@@ -15,9 +15,10 @@ __all__ = [
     "NONLINEAR_MODELS", "settings", "thesis_inputs", "model_spec", "has_arms", "model_options",
 ]
 
-#: Models with a non-linear counterpart here. CF and HS have arm loops
-#: (:mod:`pedalrepro.nonlinear.arms`, :mod:`pedalrepro.nonlinear.arm_design`).
-NONLINEAR_MODELS: tuple[str, ...] = ("benchmark", "HS", "CF", "HR", "CR")
+#: Models with a non-linear counterpart here: every linear model
+#: (:data:`pedalrepro.params.LINEAR_MODELS`, the benchmark and the four systems). CF and HS have
+#: arm loops (:mod:`pedalrepro.nonlinear.arms`, :mod:`pedalrepro.nonlinear.arm_design`).
+NONLINEAR_MODELS: tuple[str, ...] = params.LINEAR_MODELS
 
 
 @cache
