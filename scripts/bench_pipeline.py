@@ -117,12 +117,14 @@ def read_benchmark(path: Path) -> dict[str, float] | None:
         return None
 
 
-def last_build(workdir: Path, results: Path) -> Build:
-    """The newest Snakemake run of ``workdir``: its jobs with their job times."""
-    logs = sorted((workdir / ".snakemake" / "log").glob("*.snakemake.log"))
-    if not logs:
-        raise FileNotFoundError(f"no Snakemake log in {workdir / '.snakemake' / 'log'}")
-    log = logs[-1]
+def last_build(workdir: Path, results: Path, log: Path | None = None) -> Build:
+    """The newest Snakemake run of ``workdir`` (or the run of Snakemake log ``log``): its jobs
+    with their job times."""
+    if log is None:
+        logs = sorted((workdir / ".snakemake" / "log").glob("*.snakemake.log"))
+        if not logs:
+            raise FileNotFoundError(f"no Snakemake log in {workdir / '.snakemake' / 'log'}")
+        log = logs[-1]
     start, end, rules = parse_log(log)
     jobs: dict[tuple, Job] = {}
     meta = workdir / ".snakemake" / "metadata"
@@ -226,8 +228,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--results", default="results", help="results folder of the build")
     ap.add_argument("--workdir", default=".", help="folder holding .snakemake/")
     ap.add_argument("--jobs", action="store_true", help="also list every job")
+    ap.add_argument("--log", default=None,
+                    help="the build's Snakemake log (default: the newest in .snakemake/log)")
     args = ap.parse_args(argv)
-    build = last_build(Path(args.workdir), Path(args.results))
+    build = last_build(Path(args.workdir), Path(args.results),
+                       None if args.log is None else Path(args.log))
     print(report(build, args.jobs))
     return 0
 

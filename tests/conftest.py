@@ -26,7 +26,9 @@ def quick_workflow():
     ``<results>.trace/`` (``PEDALREPRO_TRACE``, tests/trace/sitecustomize.py; checked by
     tests/workflow/test_change_tracking.py).
 
-    Returns a namespace: results, returncode, log, elapsed_s, trace."""
+    Returns a namespace: results, returncode, log, elapsed_s, trace, and snakemake_log: the
+    run's own log in ``.snakemake/log`` (None if Snakemake named none), which a later Snakemake
+    run of the session does not replace (tests/workflow/test_bench_pipeline.py reads it)."""
     import os
     import shutil
     import subprocess
@@ -75,8 +77,11 @@ def quick_workflow():
     log = proc.stdout + proc.stderr
     (results.parent / f"{results.name}.snakemake.log").write_text(
         f"$ {' '.join(cmd)}\n# {elapsed:.1f} s, exit {proc.returncode}\n{log}")
+    import re
+
+    named = re.findall(r"^Complete log\(s\): (\S+)$", log, re.M)
     return SimpleNamespace(results=results, returncode=proc.returncode, log=log, elapsed_s=elapsed,
-                           trace=trace)
+                           trace=trace, snakemake_log=Path(named[-1]) if named else None)
 
 
 # --- The symbolic non-linear models: derived once into ~/.cache/pedalrepro (2-4 min CPU on a

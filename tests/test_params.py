@@ -44,3 +44,19 @@ def test_leg_mass_is_sum_of_segments():
     legs = params.legs()
     m = legs["crank_mass_kg"] + legs["shank_mass_kg"] + legs["thigh_mass_kg"]
     assert m == pytest.approx(11.792, abs=1e-12)
+
+
+def test_one_model_list():
+    """The model list is params.MODELS / params.LINEAR_MODELS; the two copies kept free of the
+    parameter files (the figure registry, the validation figures) equal it, and every thesis
+    model has an Appendix B model and a non-linear model."""
+    from pedalrepro import linear
+    from pedalrepro.figures import registry
+    from pedalrepro.figures import validation as fval
+    from pedalrepro.nonlinear import settings
+
+    assert params.LINEAR_MODELS == ("benchmark", *params.MODELS)
+    assert registry.MODELS4 == fval.SYSTEMS == params.MODELS
+    assert linear.MODEL_NAMES == settings.NONLINEAR_MODELS == params.LINEAR_MODELS
+    assert set(params.MODELS) == set(params.BICYCLE_OF_MODEL)
+    assert set(params.MODELS) <= set(settings.settings()["models"])

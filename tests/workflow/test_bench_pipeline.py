@@ -93,7 +93,9 @@ def test_not_a_log_is_refused(tmp_path):
 @pytest.mark.workflow
 def test_quick_build_benchmarks(quick_workflow):
     assert quick_workflow.returncode == 0
-    build = bench.last_build(paths.ROOT, quick_workflow.results)
+    # the quick run's own log: other tests of the session start Snakemake after it
+    assert quick_workflow.snakemake_log is not None and quick_workflow.snakemake_log.is_file()
+    build = bench.last_build(paths.ROOT, quick_workflow.results, quick_workflow.snakemake_log)
     assert len(build.jobs) >= 60
     missing = [j.rule for j in build.jobs if not j.benchmark]
     assert not missing, f"jobs without a benchmark file: {missing}"

@@ -42,7 +42,7 @@ MODULES: tuple[str, ...] = ("linear", "nonlinear", "periodic", "section2", "vali
 #: Time-solution methods of the thesis; NT and NP are optional inputs (the non-linear part).
 TIME_METHODS: tuple[str, ...] = ("LA", "LN", "NT", "NP")
 OPTIONAL_METHODS: tuple[str, ...] = ("NT", "NP")
-#: The thesis's four systems, pedalrepro.params.MODELS (tests/test_backbone.py pins the two
+#: The thesis's four systems, pedalrepro.params.MODELS (tests/test_params.py pins the two
 #: equal). Spelled here, like every figure id, because importing pedalrepro.params would put
 #: the parameter files into every figure group's code inputs (each figure would rerun when
 #: one changes; tests/test_change_tracking.py, the groups' shared code).

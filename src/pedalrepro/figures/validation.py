@@ -276,7 +276,7 @@ def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "",
 
 #: The systems of the model maps, in the order of :data:`SYSTEM_FIGURES` (the thesis's four,
 #: pedalrepro.params.MODELS; not imported: this module stays free of the parameter files, so the
-#: validation figures do not rerun when one changes; tests/test_backbone.py pins the two equal).
+#: validation figures do not rerun when one changes; tests/test_params.py pins the two equal).
 SYSTEMS: tuple[str, ...] = tuple(SYSTEM_FIGURES)
 
 
