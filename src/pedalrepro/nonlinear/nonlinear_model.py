@@ -22,7 +22,7 @@ scripts/bench_nonlinear.py).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -31,7 +31,7 @@ from . import codegen, library, symbolic
 from .symbolic import PITCH, REAR_WHEEL, ROLL, STEER, U_DEP, U_IND
 
 __all__ = [
-    "ZERO_SPEC", "moore_parameters", "correction_parameters", "NonlinearModel",
+    "ZERO_SPEC", "moore_parameters", "NonlinearModel",
     "benchmark_matrices",
 ]
 
@@ -69,24 +69,6 @@ def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
     }
 
 
-def correction_parameters(matrices: Mapping[str, np.ndarray] | None) -> dict[str, float]:
-    """``lc_*`` parameter values of the linear correction (zeros for ``None``)."""
-    out = dict.fromkeys(symbolic.correction_parameter_names(), 0.0)
-    if matrices is None:
-        return out
-    missing = [k for k in symbolic.CORRECTION_MATRICES if k not in matrices]
-    if missing:
-        raise KeyError(f"linear correction matrices missing: {missing}")
-    for k in symbolic.CORRECTION_MATRICES:
-        mat = np.asarray(matrices[k], dtype=float)
-        if mat.shape != (2, 2) or not np.all(np.isfinite(mat)):
-            raise ValueError(f"linear correction {k} must be a finite 2 x 2 matrix, got {mat!r}")
-        for i in range(2):
-            for j in range(2):
-                out[f"lc_{k}_{i}{j}"] = float(mat[i, j])
-    return out
-
-
 @dataclass
 class NonlinearModel:
     """A parametrised non-linear model ready for integration.
@@ -103,11 +85,6 @@ class NonlinearModel:
     spec
         With legs: ``t -> s`` the prescribed motion (positions, rates, accelerations; the
         order of the generated ``SPEC`` list).
-    linear_correction
-        Optional benchmark-form matrices ``{"M", "C1", "K0", "K2"}`` (2 x 2 each, Eq 3.1)
-        added to the roll and steer equations (:func:`symbolic._add_linear_correction`), e.g. to
-        study a model whose linearisation must equal given matrices. ``None`` (every thesis
-        model): no correction.
     arm_parameters
         With arms (``options.arms``): the values of :data:`symbolic.ARM_PARAMETERS`
         (:func:`pedalrepro.nonlinear.bodies.model_bodies`).
@@ -120,7 +97,6 @@ class NonlinearModel:
     options: symbolic.ModelOptions = field(default_factory=symbolic.ModelOptions)
     leg_parameters: dict[str, float] = field(default_factory=dict)
     spec: Callable[[float], np.ndarray] | None = None
-    linear_correction: Mapping[str, np.ndarray] | None = None
     arm_parameters: dict[str, float] = field(default_factory=dict)
     steer_limit_rad: float = float("inf")
 
@@ -129,8 +105,7 @@ class NonlinearModel:
     def __post_init__(self) -> None:
         self._code = codegen.load(self.options)
         self.lib = library.load_library(self.options) if self.compiled else None
-        values = (correction_parameters(self.linear_correction) | moore_parameters(self.bench)
-                  | self.leg_parameters | self.arm_parameters)
+        values = moore_parameters(self.bench) | self.leg_parameters | self.arm_parameters
         missing = [n for n in self._code.PARAMS if n not in values]
         if missing:
             raise KeyError(f"parameters missing for the non-linear model: {missing}")
