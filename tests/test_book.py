@@ -478,7 +478,7 @@ def test_every_claims_figures_resolve_to_registered_figures():
     for rid in report.expected_status()["id"]:
         figure_rows.figures_of(rid)  # raises on an unknown id
     rd = {(registry.spec(f).kwargs["model"], registry.spec(f).kwargs["coord"]): f
-          for f in registry.ids() if registry.spec(f).function == "linear.fig_rd_points"}
+          for f in registry.ids() if registry.spec(f).function == "linear.figs_rd_points"}
     assert len(rd) == 8 and rd[("HR", "roll")] == "fig_3_32" and rd[("CF", "roll")] == "fig_3_33"
     for (model, coord), fid in rd.items():
         assert figure_rows.figures_of(f"rd_2b.{model}.{coord}") == [fid]
