@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
+from required import BOOK, skip_unless_required
 
 from pedalrepro import figures, paths, report
 
@@ -281,9 +282,9 @@ def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProc
                           cwd=root, env=env, capture_output=True, text=True)
 
 
-@pytest.mark.skipif(not (paths.ROOT / "node_modules" / "mathjax").is_dir(),
-                    reason="MathJax not installed (npm ci)")
 def test_a_failing_notebook_cell_fails_the_book_rule(tmp_path):
+    if not (paths.ROOT / "node_modules" / "mathjax").is_dir():
+        skip_unless_required(BOOK, "MathJax not installed (npm ci)")
     good = _mini_workflow(tmp_path / "good", "x = 1 + 1\nx")
     assert good.returncode == 0, good.stdout + good.stderr
     assert (tmp_path / "good/repo/results/book/_build/html/index.html").is_file()
