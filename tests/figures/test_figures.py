@@ -50,6 +50,22 @@ def test_every_figure_id_is_written_out_in_the_registry():
     assert not re.search(r'f"(fig|table|periodic_maps|nonlinear_examples)_\{', source)
 
 
+def test_drawing_modules_compute_no_sweep():
+    """CONTRIBUTING: drawing reads files and never computes a sweep. The import closure of every
+    drawing module (the registry's and the closed loop's) holds no module that solves or
+    simulates: the figures get those results as arrays from the rules' files."""
+    from pedalrepro import dependencies
+
+    solvers = ("response.py", "linear.py", "evaluation.py", "disturbance.py", "legs.py",
+               "figdata.py", "integrator/", "nonlinear/", "periodic/", "mocap/", "rider/")
+    package = dependencies.PACKAGE_DIR
+    for module in (*registry.MODULES, "closed_loop"):
+        closure = dependencies.import_closure([package / "figures" / f"{module}.py"])
+        rel = [str(p.relative_to(package)) for p in closure]
+        assert f"figures/{module}.py" in rel
+        assert not [r for r in rel if r.startswith(solvers)], (module, rel)
+
+
 def test_every_input_is_under_the_results_layout():
     dirs = set(paths.LAYOUT.values())
     for fid, spec in registry.FIGURES.items():
@@ -292,6 +308,15 @@ def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
         rd = np.abs(measured - out[f"spectra_{q}_model_rad"]) / measured * 100
         np.testing.assert_allclose(line.get_ydata(), rd, rtol=1e-12)
     assert "diamonds" in f10.get_suptitle() and "real measurements" in f11.get_suptitle()
+    # built from the synthetic stand-in: stamped SYNTHETIC (figures.synthetic_stamp); from the
+    # figshare runs: not
+    assert "SYNTHETIC" in f10.get_suptitle() and "SYNTHETIC" in f11.get_suptitle()
+    with figures.style():
+        real_runs = per_run.assign(data_source="figshare")
+        real = [fv.fig_4_10(real_runs, series, {"data_source": "figshare"}, out),
+                fv.fig_4_11(real_runs, series, {"data_source": "figshare"}, out)]
+    assert not any("SYNTHETIC" in t.get_text() for f in real for t in f.texts)
+    assert not any("SYNTHETIC" in f.get_suptitle() for f in real)
     figures.save(f10, tmp_path / "fig_4_10.png")
     figures.save(f11, tmp_path / "fig_4_11.png")
     none = figdata.validation(per_run, series, v, w, 6, "synthetic", spectra.iloc[:0])
