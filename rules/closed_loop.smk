@@ -98,7 +98,7 @@ rule closed_loop_report:
         t42=table("table_4_2_closed_loop"),
         gains=table("rider_gains"),
     output:
-        f"{R}/tables/report/closed_loop.csv",
+        table("report/closed_loop"),
     log:
         logfile("closed_loop_report"),
     benchmark:
@@ -128,7 +128,7 @@ rule closed_loop_figures:
         "scripts/closed_loop_figures.py"
 
 
-REPORT_PARTS.append(f"{R}/tables/report/closed_loop.csv")
+REPORT_PARTS.append(table("report/closed_loop"))
 BOOK_INPUTS.extend(CLOSED_LOOP_TABLES + CLOSED_LOOP_MAPS + CLOSED_LOOP_FIGURES
                    + [interm("closed_loop/eigen.npz"), interm("closed_loop/time_CF.npz"), interm("closed_loop/spectra.csv"),
                       interm("closed_loop/spectra.json")])

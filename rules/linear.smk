@@ -156,7 +156,7 @@ rule linear_report:
         table_4_1_moved=table("table_4_1_model_moved_inputs"),
         ps=expand(interm("ps/{model}.npz"), model=LINEAR_MODELS),
     output:
-        report=f"{R}/tables/report/linear.csv",
+        report=table("report/linear"),
         sensitivity=table("sensitivity"),
     params:
         models=LINEAR_MODELS,
@@ -175,7 +175,7 @@ rule linear_report:
         "scripts/linear_report.py"
 
 
-REPORT_PARTS.append(f"{R}/tables/report/linear.csv")
+REPORT_PARTS.append(table("report/linear"))
 BOOK_INPUTS.extend(
     [table("eigen_summary"), table("table_4_1_model"), table("rd_summary")]
     + [table("sensitivity"), table("table_4_1_model_moved_inputs")]

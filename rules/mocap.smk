@@ -87,7 +87,7 @@ rule validation_report:
         **CHAPTER_4_INPUTS,
         code=code_inputs("scripts/validation_report.py"),
     output:
-        report=f"{R}/tables/report/mocap.csv",
+        report=table("report/mocap"),
     log:
         logfile("validation_report"),
     benchmark:
@@ -98,7 +98,7 @@ rule validation_report:
         "scripts/validation_report.py"
 
 
-REPORT_PARTS.append(f"{R}/tables/report/mocap.csv")
+REPORT_PARTS.append(table("report/mocap"))
 # Figures 4.2-4.11 and the REAL run's panel are drawn by rules/figures.smk (figure registry).
 BOOK_INPUTS.extend(
     [table("table_4_1"), table("table_4_2"), table("validation_runs"),

@@ -199,7 +199,7 @@ rule nonlinear_report:
         eigen_e_1=interm("nonlinear/eigen_cf_original_seat.npz"),
         eigen_cf=interm("nonlinear/eigen_cf_own.npz"),
     output:
-        report=f"{R}/tables/report/nonlinear.csv",
+        report=table("report/nonlinear"),
     log:
         logfile("nonlinear_report"),
     benchmark:
@@ -210,7 +210,7 @@ rule nonlinear_report:
         "scripts/nonlinear_report.py"
 
 
-REPORT_PARTS.append(f"{R}/tables/report/nonlinear.csv")
+REPORT_PARTS.append(table("report/nonlinear"))
 BOOK_INPUTS.extend([
     table("calibration"),
     table("calibration_checks"),

@@ -67,7 +67,7 @@ rule section2_report:
         numbers=table("section2_numbers"),
         code=code_inputs("scripts/section2_report.py"),
     output:
-        report=f"{R}/tables/report/section2.csv",
+        report=table("report/section2"),
     log:
         logfile("section2_report"),
     benchmark:
@@ -78,7 +78,7 @@ rule section2_report:
         "scripts/section2_report.py"
 
 
-REPORT_PARTS.append(f"{R}/tables/report/section2.csv")
+REPORT_PARTS.append(table("report/section2"))
 BOOK_INPUTS.extend(
     [table("table_d_1"), table("section2_numbers")]
     + [interm(f"section2/disturbance_{b}.npz") for b in SECTION2_BICYCLES]

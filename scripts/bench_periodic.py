@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pedalrepro import config, params, periodic, response
+from pedalrepro import config, params, paths, periodic, response
 
 
 def job_seconds(folder: Path, pattern: str) -> tuple[float, float, int]:
@@ -109,7 +109,7 @@ def main() -> None:
                 print(f"side by side on {vs.size} x {ws.size} points, {method} {model}: "
                       f"simulation sweep ({settings.duration_s:g} s runs) {sim_cpu:.1f} s CPU, "
                       f"orbits {orb_cpu:.1f} s CPU (ratio {sim_cpu / orb_cpu:.1f})")
-    bench = Path(args.results) / "benchmarks"
+    bench = paths.benchmarks(args.results)
     sweep_s, sweep_cpu, n_sweep = job_seconds(bench, "nonlinear_time_chunk_N[TP]_*_*.tsv")
     maps_s, maps_cpu, n_maps = job_seconds(bench, "periodic_map_thesis_*.tsv")
     if n_sweep:

@@ -31,6 +31,8 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
 
+from pedalrepro import paths
+
 #: Rule name prefix -> group (first match wins).
 GROUPS: tuple[tuple[str, str], ...] = (
     ("nonlinear_codegen", "derivation (once)"), ("nonlinear_time", "NT/NP sweeps"),
@@ -143,7 +145,7 @@ def last_build(workdir: Path, results: Path, log: Path | None = None) -> Build:
                                        inputs=list(rec.get("input") or []),
                                        logs=list(rec.get("log") or [])))
         job.outputs.append(out)
-    bench_dir = results / "benchmarks"
+    bench_dir = paths.benchmarks(results)
     for job in jobs.values():
         job.seconds = job.end - job.start
         for log_file in job.logs:

@@ -1,5 +1,6 @@
 """Measure the shortest analysable run length: cadence amplitudes of excerpts of run 3045
-against those of the whole 60 s record (issue 22).
+against those of the whole 60 s record, the measurement behind the minimum record length that
+``pedalrepro.mocap.runs`` refuses below (``MIN_SEGMENT_S``).
 
     PEDALREPRO_DATA_DIR=/path/to/3045_X.xlsx... python scripts/measure_min_length.py
 

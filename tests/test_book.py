@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
+from required import BOOK, skip_unless_required
 
 from pedalrepro import figures, paths, report
 
@@ -281,9 +282,9 @@ def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProc
                           cwd=root, env=env, capture_output=True, text=True)
 
 
-@pytest.mark.skipif(not (paths.ROOT / "node_modules" / "mathjax").is_dir(),
-                    reason="MathJax not installed (npm ci)")
 def test_a_failing_notebook_cell_fails_the_book_rule(tmp_path):
+    if not (paths.ROOT / "node_modules" / "mathjax").is_dir():
+        skip_unless_required(BOOK, "MathJax not installed (npm ci)")
     good = _mini_workflow(tmp_path / "good", "x = 1 + 1\nx")
     assert good.returncode == 0, good.stdout + good.stderr
     assert (tmp_path / "good/repo/results/book/_build/html/index.html").is_file()
@@ -478,7 +479,7 @@ def test_every_claims_figures_resolve_to_registered_figures():
     for rid in report.expected_status()["id"]:
         figure_rows.figures_of(rid)  # raises on an unknown id
     rd = {(registry.spec(f).kwargs["model"], registry.spec(f).kwargs["coord"]): f
-          for f in registry.ids() if registry.spec(f).function == "linear.fig_rd_points"}
+          for f in registry.ids() if registry.spec(f).function == "linear.figs_rd_points"}
     assert len(rd) == 8 and rd[("HR", "roll")] == "fig_3_32" and rd[("CF", "roll")] == "fig_3_33"
     for (model, coord), fid in rd.items():
         assert figure_rows.figures_of(f"rd_2b.{model}.{coord}") == [fid]

@@ -1,6 +1,6 @@
 """Names of the three terms of the equations of motion that the momentum approach neglects
 (thesis Eq 3.29, Sec 3.2.3.1): a leaf module (no imports), so that the neglected-momenta figures
-labelling them (:func:`pedalrepro.figures.linear.fig_neglected_momenta`) do not depend on the
+labelling them (:func:`pedalrepro.figures.linear.figs_neglected_momenta`) do not depend on the
 physics of :mod:`pedalrepro.momentum`.
 """
 

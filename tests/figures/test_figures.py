@@ -50,6 +50,22 @@ def test_every_figure_id_is_written_out_in_the_registry():
     assert not re.search(r'f"(fig|table|periodic_maps|nonlinear_examples)_\{', source)
 
 
+def test_drawing_modules_compute_no_sweep():
+    """CONTRIBUTING: drawing reads files and never computes a sweep. The import closure of every
+    drawing module (the registry's and the closed loop's) holds no module that solves or
+    simulates: the figures get those results as arrays from the rules' files."""
+    from pedalrepro import dependencies
+
+    solvers = ("response.py", "linear.py", "evaluation.py", "disturbance.py", "legs.py",
+               "figdata.py", "integrator/", "nonlinear/", "periodic/", "mocap/", "rider/")
+    package = dependencies.PACKAGE_DIR
+    for module in (*registry.MODULES, "closed_loop"):
+        closure = dependencies.import_closure([package / "figures" / f"{module}.py"])
+        rel = [str(p.relative_to(package)) for p in closure]
+        assert f"figures/{module}.py" in rel
+        assert not [r for r in rel if r.startswith(solvers)], (module, rel)
+
+
 def test_every_input_is_under_the_results_layout():
     dirs = set(paths.LAYOUT.values())
     for fid, spec in registry.FIGURES.items():
@@ -148,7 +164,7 @@ def test_g_7_has_a_cadence_rpm_axis():
     eig = {"speed_m_s": v, "weave_frequency_rad_s": np.full(v.size, 3.0),
            "stable_ranges_m_s": np.array([[4.0, 6.0]])}
     with figures.style():
-        fig = figlin.fig_benchmark_ps(ps, eig)
+        fig = figlin.fig_g_7(ps, eig)
     children = [c for a in fig.axes for c in a.child_axes]
     rpm = [c for c in children if c.get_ylabel() == "cadence (rpm)"]
     kmh = [c for c in children if c.get_xlabel() == "speed (km/h)"]
@@ -167,13 +183,13 @@ def test_every_chapter_uses_one_model_colour():
     per_run = pd.DataFrame({"system": ["HS", "CR"], "speed_kmh": [10.0, 20.0],
                             "roll_rd_percent": [5.0, 6.0], "steer_rd_percent": [7.0, 8.0]})
     with figures.style():
-        fig = fv.fig_4_11(per_run)
+        fig = fv.run_relative_differences(per_run)
     colours = {ln.get_label(): ln.get_color() for ln in fig.axes[0].get_lines()}
     assert colours == {"HS": palette.MODEL_COLOURS["HS"], "CR": palette.MODEL_COLOURS["CR"]}
     sections = {"gear_ratios": np.array([1.0]), "HS_1_speed_m_s": np.array([1.0, 2.0]),
                 "HS_1_roll_rad": np.array([0.01, 0.02]), "HS_1_steer_rad": np.array([0.0, 0.01])}
     with figures.style():
-        fig = figlin.fig_gear_sections(sections, ["HS"])
+        fig = figlin.figs_gear_sections(sections, ["HS"])
     assert {ln.get_color() for ln in fig.axes[0].get_lines()} == {palette.MODEL_COLOURS["HS"]}
 
 
@@ -228,13 +244,13 @@ def test_validation_figure_data_keeps_the_real_run_apart(tmp_path):
     assert float(out["real_cadence_rpm"]) == pytest.approx(82.39, abs=1e-9)
     source = {"data_source": "synthetic", "reason": "stand-in"}
     with figures.style():
-        fig = fv.draw_real_run_panel(source, out)
+        fig = fv.real_run_panel(source, out)
     assert fig.get_size_inches()[0] <= 7.0 + 1e-9
     figures.save(fig, tmp_path / "real_run_panel.png")  # refuses wide figures or small text
     assert (tmp_path / "real_run_panel.pdf").exists()
     no_real = {k: v for k, v in out.items() if not k.startswith("real_")}
     with figures.style():
-        fig = fv.draw_real_run_panel(source, no_real)
+        fig = fv.real_run_panel(source, no_real)
     assert "No real public-subset run" in fig.axes[0].texts[0].get_text()
     figures.save(fig, tmp_path / "no_real_run.png")
 
@@ -276,8 +292,8 @@ def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
                                    rtol=1e-12)
     source = {"data_source": "synthetic", "reason": "stand-in"}
     with figures.style():
-        f10 = fv.draw_fig_4_10(per_run, series, source, out)
-        f11 = fv.draw_fig_4_11(per_run, series, source, out)
+        f10 = fv.fig_4_10(per_run, series, source, out)
+        f11 = fv.fig_4_11(per_run, series, source, out)
     cf_axes = [ax for ax in f10.axes if ax.get_title().startswith("CF ")]
     assert len(cf_axes) == 2
     for ax in cf_axes:
@@ -292,13 +308,22 @@ def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
         rd = np.abs(measured - out[f"spectra_{q}_model_rad"]) / measured * 100
         np.testing.assert_allclose(line.get_ydata(), rd, rtol=1e-12)
     assert "diamonds" in f10.get_suptitle() and "real measurements" in f11.get_suptitle()
+    # built from the synthetic stand-in: stamped SYNTHETIC (figures.synthetic_stamp); from the
+    # figshare runs: not
+    assert "SYNTHETIC" in f10.get_suptitle() and "SYNTHETIC" in f11.get_suptitle()
+    with figures.style():
+        real_runs = per_run.assign(data_source="figshare")
+        real = [fv.fig_4_10(real_runs, series, {"data_source": "figshare"}, out),
+                fv.fig_4_11(real_runs, series, {"data_source": "figshare"}, out)]
+    assert not any("SYNTHETIC" in t.get_text() for f in real for t in f.texts)
+    assert not any("SYNTHETIC" in f.get_suptitle() for f in real)
     figures.save(f10, tmp_path / "fig_4_10.png")
     figures.save(f11, tmp_path / "fig_4_11.png")
     none = figdata.validation(per_run, series, v, w, 6, "synthetic", spectra.iloc[:0])
     assert not any(k.startswith("spectra_") for k in none)
     with figures.style():
-        f10 = fv.draw_fig_4_10(per_run, series, source, none)
-        f11 = fv.draw_fig_4_11(per_run, series, source, none)
+        f10 = fv.fig_4_10(per_run, series, source, none)
+        f11 = fv.fig_4_11(per_run, series, source, none)
     assert not any(c.get_label() == fv.SPECTRA_LABEL for ax in f10.axes
                    for c in ax.collections)
     assert not any(ln.get_label() == fv.SPECTRA_LABEL for ax in f11.axes for ln in ax.lines)

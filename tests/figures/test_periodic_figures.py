@@ -35,7 +35,7 @@ def _overlap(a, b) -> bool:
 
 def test_colour_bars_do_not_overlap():
     rng = np.random.default_rng(0)
-    fig = figp.fig_orbit_maps({m: _map(rng) for m in ("NT", "NP")}, "HR", ("NT", "NP"),
+    fig = figp.figs_orbit_maps({m: _map(rng) for m in ("NT", "NP")}, "HR", ("NT", "NP"),
                               sims={m: _sim(rng) for m in ("NT", "NP")})
     fig.canvas.draw()
     bars = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
@@ -64,7 +64,7 @@ def test_periodic_figures_are_registered():
 
 def test_orbit_map_figure_without_simulations_says_so():
     rng = np.random.default_rng(1)
-    fig = figp.fig_orbit_maps({"NT": _map(rng)}, "HR", ("NT",))
+    fig = figp.figs_orbit_maps({"NT": _map(rng)}, "HR", ("NT",))
     texts = [t.get_text() for ax in fig.axes for t in ax.texts]
     assert texts.count("no simulation") == 4  # simulation and RD panels, roll and steer
 

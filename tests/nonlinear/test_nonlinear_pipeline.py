@@ -44,5 +44,5 @@ def test_figures_draw_the_given_arrays():
     assert [(cs.levels[i], cs.levels[i + 1]) for i in filled] == [(1.0, 2.5)]
     table = pd.DataFrame({"model": ["HR", "HR"], "matrix": ["M", "K0"], "i": [0, 0],
                           "j": [0, 1], "rel_diff": [0.1, 0.2]})
-    fig2 = fig_nl.fig_linearisation_vs_appendix_b(table)
+    fig2 = fig_nl.nonlinear_linearisation_vs_appendix_b(table)
     assert np.allclose(fig2.axes[0].lines[0].get_ydata(), [10.0, 20.0])

@@ -1,10 +1,16 @@
-"""One function per thesis figure: arrays/DataFrames in, a matplotlib ``Figure`` out.
+"""Drawing functions named after the figures they draw: arrays/DataFrames in, a matplotlib
+``Figure`` out.
 
 Every figure is registered in ONE table, :mod:`pedalrepro.figures.registry` (id -> drawing
 function and the files it reads), which the Snakemake rules (``rules/figures.smk``: inputs,
 outputs, :func:`registry.write`) and the notebooks (:func:`draw`, ``show(None, id)``) both use.
-Drawing functions by thesis part: ``section2``, ``linear``, ``nonlinear``, ``validation``; model
-colours and method line styles in ``palette``.
+A function the registry calls for one id is named that id (``section2.fig_2_3``,
+``linear.fig_3_8``, ``validation.real_run_panel``); one it calls for several ids is named
+``figs_<topic>`` (``linear.figs_ps_time``) and lists every id it draws in its docstring's first
+paragraph; no other function is named ``fig_...``/``figs_...``
+(``tests/figures/test_figure_names.py``). Drawing functions by thesis part: ``section2``,
+``linear``, ``nonlinear``, ``validation``, and ``periodic`` beyond the thesis; model colours and
+method line styles in ``palette``.
 
 Figures are drawn for the page: at most :data:`MAX_WIDTH_IN` (the book's 672 px content width)
 wide, with no text below :data:`MIN_FONT_PT`; :func:`save` refuses a figure that is not, and

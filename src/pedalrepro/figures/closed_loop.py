@@ -16,13 +16,14 @@ import pandas as pd
 
 from .palette import MEASURED_COLOUR, MODEL_COLOURS
 
-__all__ = ["fig_validation", "fig_gains", "fig_maps", "fig_time", "draw_all"]
+__all__ = ["closed_loop_validation", "closed_loop_gains", "closed_loop_maps", "closed_loop_time",
+           "draw_all"]
 
 _OPEN = dict(color="0.45", ls="--", marker="s", ms=4, lw=1.0)
 _CLOSED = dict(ls="-", marker="o", ms=4, lw=1.2)
 
 
-def fig_validation(validation: pd.DataFrame) -> plt.Figure:
+def closed_loop_validation(validation: pd.DataFrame) -> plt.Figure:
     """Cadence amplitudes against speed: measured, open-loop model, closed-loop model.
 
     Left: CF against Moore's measured spectra ("measured (published spectra)"); right: HR and
@@ -60,7 +61,7 @@ def fig_validation(validation: pd.DataFrame) -> plt.Figure:
     return fig
 
 
-def fig_gains(eigen: Mapping[str, np.ndarray], models: Sequence[str] | None = None
+def closed_loop_gains(eigen: Mapping[str, np.ndarray], models: Sequence[str] | None = None
               ) -> plt.Figure:
     """Rule gains ``kDelta`` (N m/rad) and ``kPhi`` and the largest real part of the
     closed-loop eigenvalues against speed, per model."""
@@ -84,7 +85,7 @@ def fig_gains(eigen: Mapping[str, np.ndarray], models: Sequence[str] | None = No
     return fig
 
 
-def fig_maps(maps: Mapping[str, Mapping[str, np.ndarray]]) -> plt.Figure:
+def closed_loop_maps(maps: Mapping[str, Mapping[str, np.ndarray]]) -> plt.Figure:
     """Closed-loop cadence amplitude maps (roll, steer) over speed and cadence per model, as a
     ratio to the open loop's (PS): below 1 the rider reduces the pedalling response. Speeds where
     the closed loop is unstable (or has no gains) are greyed out."""
@@ -116,7 +117,7 @@ def fig_maps(maps: Mapping[str, Mapping[str, np.ndarray]]) -> plt.Figure:
     return fig
 
 
-def fig_time(series: Mapping[str, np.ndarray]) -> plt.Figure:
+def closed_loop_time(series: Mapping[str, np.ndarray]) -> plt.Figure:
     """CF roll and steer from rest, open loop (LA) and closed loop, at the example speeds (the
     axis spans three times the closed loop's largest value: the unstable open loop leaves it)."""
     t = series["t_s"]
@@ -158,8 +159,9 @@ def draw_all(inputs, outputs: Sequence[str]) -> None:
 
     named = {Path(p).stem: p for p in outputs}
     with style():
-        save(fig_validation(pd.read_csv(inputs.validation)), named["closed_loop_validation"])
-        save(fig_gains(dict(np.load(inputs.eigen))), named["closed_loop_gains"])
+        save(closed_loop_validation(pd.read_csv(inputs.validation)),
+             named["closed_loop_validation"])
+        save(closed_loop_gains(dict(np.load(inputs.eigen))), named["closed_loop_gains"])
         maps = {str(Path(f).stem).removeprefix("map_"): dict(np.load(f)) for f in inputs.maps}
-        save(fig_maps(maps), named["closed_loop_maps"])
-        save(fig_time(dict(np.load(inputs.time))), named["closed_loop_time"])
+        save(closed_loop_maps(maps), named["closed_loop_maps"])
+        save(closed_loop_time(dict(np.load(inputs.time))), named["closed_loop_time"])

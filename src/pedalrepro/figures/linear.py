@@ -32,10 +32,10 @@ from .palette import (
 
 __all__ = [
     "Arrays", "ALL_TIME_METHODS", "AMP_LEVELS", "RD_LEVELS_PERCENT", "WIDTH_IN",
-    "zoom_window", "eigen_panel", "fig_eigenvalues", "fig_gear_grid", "fig_ps_time",
-    "fig_series_time", "fig_fft", "fig_series_fft", "fig_cam_time", "fig_neglected_momenta",
-    "fig_amplitude_maps", "fig_gear_sections", "fig_benchmark_ps", "rd_norm", "rd_colorbar",
-    "rd_map", "fig_rd_reference", "fig_rd_models", "fig_rd_points",
+    "zoom_window", "eigen_panel", "figs_eigenvalues", "fig_3_8", "figs_ps_time",
+    "figs_series_time", "figs_fft", "figs_series_fft", "fig_3_30", "figs_neglected_momenta",
+    "fig_3_35", "figs_gear_sections", "fig_g_7", "rd_norm", "rd_colorbar",
+    "rd_map", "fig_3_37", "fig_3_38", "figs_rd_points",
 ]
 
 Arrays = Mapping[str, np.ndarray]
@@ -225,8 +225,9 @@ def eigen_panel(ax, e: Arrays, title: str) -> None:
     ax.set_ylabel("eigenvalue (1/s)")
 
 
-def fig_eigenvalues(eigen: Mapping[str, Arrays], models: Sequence[str]) -> Figure:
-    """Fig 3.6 (benchmark) / Fig 3.9 (HS, CF, HR, CR): eigenvalues vs speed, one panel each."""
+def figs_eigenvalues(eigen: Mapping[str, Arrays], models: Sequence[str]) -> Figure:
+    """Eigenvalues vs speed, one panel per model: ``fig_3_6`` (Fig 3.6, the benchmark) and
+    ``fig_3_9`` (Fig 3.9, HS, CF, HR, CR)."""
     n = len(models)
     fig, axes = plt.subplots(1 if n == 1 else 2, 1 if n == 1 else 2, squeeze=False,
                              figsize=(WIDTH_IN, 4.2) if n == 1 else (WIDTH_IN, 6.2),
@@ -237,7 +238,7 @@ def fig_eigenvalues(eigen: Mapping[str, Arrays], models: Sequence[str]) -> Figur
     return fig
 
 
-def fig_gear_grid(grid: Arrays) -> Figure:
+def fig_3_8(grid: Arrays) -> Figure:
     """Fig 3.8: the speed-cadence grid with gear-ratio lines and the 'normal cycling' ellipse
     (``grid``: :func:`pedalrepro.figdata.gear_grid`)."""
     speed_m_s, omega_rad_s = grid["speed_m_s"], grid["omega_rad_s"]
@@ -268,9 +269,12 @@ def fig_gear_grid(grid: Arrays) -> Figure:
 # particular solution + time solutions (Fig 3.10-3.19, G.1-G.6)
 # --------------------------------------------------------------------------------------------
 
-def fig_ps_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coord: str,
+def figs_ps_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coord: str,
                 single_harmonic: bool = False) -> Figure:
-    """Fig 3.10-3.17 (and G.1-G.6): PS amplitude map (top) and time solutions at six points.
+    """PS amplitude map (top) and time solutions at six points: Figs 3.10-3.17 and G.1-G.6,
+    ``fig_3_10``, ``fig_3_11``, ``fig_3_12``, ``fig_3_13``, ``fig_3_14``, ``fig_3_15``,
+    ``fig_3_16``, ``fig_3_17``, ``fig_g_1``, ``fig_g_2``, ``fig_g_3``, ``fig_g_4``, ``fig_g_5``,
+    ``fig_g_6``.
 
     Top: particular-solution amplitude at the cadence, the CAM isoline (burgundy), the weave
     imaginary part (dashed) and the self-stable range (vertical lines), with the six numbered
@@ -302,10 +306,12 @@ def fig_ps_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
     return fig
 
 
-def fig_series_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
+def figs_series_time(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
                     coord: str) -> Figure:
-    """Fig 3.18 / 3.19: time solutions at one speed and six cadences; the zoom is at least
-    8 s long, so that the weave period (about 3 s, Sec 3.2.2) shows."""
+    """Time solutions at one speed and six cadences: ``fig_3_18`` (Fig 3.18, HS) and
+    ``fig_3_19`` (Fig 3.19, CR).
+
+    The zoom is at least 8 s long, so that the weave period (about 3 s, Sec 3.2.2) shows."""
     fig, ax_map, ax_leg, rows = _time_rows_fig()
     _ps_contour(ax_map, ps, coord, eig)
     _rpm_axis(ax_map)
@@ -340,9 +346,12 @@ def _spectrum_panel(ax, d: Arrays, key: str, k: int, fs: float, style: dict, lab
     return h
 
 
-def fig_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coord: str,
+def figs_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coord: str,
             series: bool = False) -> Figure:
-    """Fig 3.20-3.29: Hann-DFT cadence amplitude vs PS (top), spectra at six points (below).
+    """Hann-DFT cadence amplitude vs PS (top), spectra at six points (below): Figs 3.20-3.27,
+    ``fig_3_20``, ``fig_3_21``, ``fig_3_22``, ``fig_3_23``, ``fig_3_24``, ``fig_3_25``,
+    ``fig_3_26``, ``fig_3_27`` (the one-speed series of Figs 3.28/3.29 through
+    :func:`figs_series_fft`).
 
     Top: the Hann-windowed DFT amplitude of the LA time solutions on the time grid (colours,
     same scale as the PS) with the PS amplitude as black contour lines. Below: spectra of the
@@ -412,17 +421,18 @@ def fig_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str, coo
     return fig
 
 
-def fig_series_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
+def figs_series_fft(ps: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
                    coord: str) -> Figure:
-    """Fig 3.28 / 3.29: spectra at one speed and six cadences (weave peak fixed)."""
-    return fig_fft(ps, eig, time, model, coord, series=True)
+    """Spectra at one speed and six cadences (weave peak fixed): ``fig_3_28`` (Fig 3.28, HS)
+    and ``fig_3_29`` (Fig 3.29, CR)."""
+    return figs_fft(ps, eig, time, model, coord, series=True)
 
 
 # --------------------------------------------------------------------------------------------
 # conservation of angular momentum (Fig 3.30, 3.31, F.1-F.3)
 # --------------------------------------------------------------------------------------------
 
-def fig_cam_time(cam: Arrays, model: str) -> Figure:
+def fig_3_30(cam: Arrays, model: str) -> Figure:
     """Fig 3.30: CAM roll/steer angle and rate for the leg model and its simplifications.
 
     ``cam``: :func:`pedalrepro.figdata.cam_cases` (``labels``, ``t_s``, ``angle_rad`` and
@@ -444,8 +454,9 @@ def fig_cam_time(cam: Arrays, model: str) -> Figure:
     return fig
 
 
-def fig_neglected_momenta(data: Arrays, model: str) -> Figure:
-    """Fig 3.31, F.1-F.3: neglected momenta of Eq 3.29 as ratios of the leg momentum.
+def figs_neglected_momenta(data: Arrays, model: str) -> Figure:
+    """Neglected momenta of Eq 3.29 as ratios of the leg momentum, one model each: ``fig_3_31``
+    (Fig 3.31, HS), ``fig_f_1`` (CF), ``fig_f_2`` (HR), ``fig_f_3`` (CR).
 
     ``data``: :func:`pedalrepro.figdata.neglected_momenta` (``ratios`` (n_v, n_w, 3, 2)).
     Contours of each term at 1/4 and 1; filled where all three < 1/4; the GR band hatched.
@@ -493,7 +504,7 @@ def _model_rows(n: int, height_per_row: float = 2.1):
     return fig, axes
 
 
-def fig_amplitude_maps(ps: Mapping[str, Arrays], models: Sequence[str], grid: Arrays) -> Figure:
+def fig_3_35(ps: Mapping[str, Arrays], models: Sequence[str], grid: Arrays) -> Figure:
     """Fig 3.35: PS roll (left) and steer (right) amplitude maps of each model (rows), GR 1 and
     4 (dashed, each model's wheel), the normal-cycling ellipse (solid); ``grid``:
     :func:`pedalrepro.figdata.gear_grid`."""
@@ -518,10 +529,12 @@ def fig_amplitude_maps(ps: Mapping[str, Arrays], models: Sequence[str], grid: Ar
     return fig
 
 
-def fig_gear_sections(sections: Arrays, models: Sequence[str]) -> Figure:
-    """Fig 3.36 / G.8: roll (solid) and steer (dashed) amplitude along GR 1, 2, 3, 4, in the
-    model colours of :mod:`pedalrepro.figures.palette` (``sections``:
-    :func:`pedalrepro.figdata.gear_sections`)."""
+def figs_gear_sections(sections: Arrays, models: Sequence[str]) -> Figure:
+    """Roll (solid) and steer (dashed) amplitude along GR 1, 2, 3, 4: ``fig_3_36`` (Fig 3.36,
+    HS, CF, HR, CR) and ``fig_g_8`` (Fig G.8, the benchmark).
+
+    Model colours of :mod:`pedalrepro.figures.palette`; ``sections``:
+    :func:`pedalrepro.figdata.gear_sections`."""
     grs = [float(g) for g in sections["gear_ratios"]]
     fig, axes = plt.subplots(2, 2, figsize=(WIDTH_IN, 5.4), sharey=True, sharex=True,
                              layout="constrained")
@@ -542,7 +555,7 @@ def fig_gear_sections(sections: Arrays, models: Sequence[str]) -> Figure:
     return fig
 
 
-def fig_benchmark_ps(ps: Arrays, eig: Arrays) -> Figure:
+def fig_g_7(ps: Arrays, eig: Arrays) -> Figure:
     """Fig G.7: benchmark PS roll and steer maps (rows), CAM isoline with a 25 % band, the grid
     maximum; speed in m/s and km/h, cadence in rad/s and rpm, as the thesis."""
     fig, axes = plt.subplots(2, 1, figsize=(WIDTH_IN, 7.4), layout="constrained")
@@ -603,7 +616,7 @@ def _label_rd_grid(fig: Figure, axes, cs, log: bool = True) -> None:
             fig.colorbar(cs, ax=axes, label="RD (%)", shrink=0.7)
 
 
-def fig_rd_reference(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
+def fig_3_37(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
                      models: Sequence[str]) -> Figure:
     """Fig 3.37: RD of each grid point from the reference 60 rpm, 5 m/s (evaluation point 4)."""
     fig, axes = _model_rows(len(models))
@@ -617,7 +630,7 @@ def fig_rd_reference(rd: Mapping[str, Arrays], eigen: Mapping[str, Arrays],
     return fig
 
 
-def fig_rd_models(pairs: Arrays) -> Figure:
+def fig_3_38(pairs: Arrays) -> Figure:
     """Fig 3.38: RD between models: HR vs HS, CR vs CF (posture), CR vs HR (bicycle); rows =
     pairs, columns roll and steer."""
     keys = [("5", "HR", "HS"), ("5", "CR", "CF"), ("6", "CR", "HR")]
@@ -634,10 +647,11 @@ def fig_rd_models(pairs: Arrays) -> Figure:
     return fig
 
 
-def fig_rd_points(rd: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
+def figs_rd_points(rd: Arrays, eig: Arrays, time: Mapping[str, Arrays], model: str,
                   coord: str) -> Figure:
-    """Fig 3.32, 3.33, H.1-H.6: RD maps of evaluation points 1a, 1b, 1c, 2b, 3a, 3b (3 rows of
-    two).
+    """RD maps of evaluation points 1a, 1b, 1c, 2b, 3a, 3b (3 rows of two), one model and
+    coordinate each: Figs 3.32, 3.33, H.1-H.6, ``fig_3_32``, ``fig_3_33``, ``fig_h_1``,
+    ``fig_h_2``, ``fig_h_3``, ``fig_h_4``, ``fig_h_5``, ``fig_h_6``.
 
     1a (NT vs NP) and 1b (LA vs NT) need the non-linear time solutions; they are drawn when
     present, otherwise the panel says so.

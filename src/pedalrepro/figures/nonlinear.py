@@ -10,7 +10,7 @@ import pandas as pd
 
 from .palette import model_colour
 
-__all__ = ["fig_3_34", "fig_linearisation_vs_appendix_b", "fig_e_1", "example_runs"]
+__all__ = ["fig_3_34", "nonlinear_linearisation_vs_appendix_b", "fig_e_1", "figs_example_runs"]
 
 
 def fig_3_34(maps: Mapping[str, np.ndarray],
@@ -63,7 +63,7 @@ def fig_3_34(maps: Mapping[str, np.ndarray],
     return fig
 
 
-def fig_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
+def nonlinear_linearisation_vs_appendix_b(table: pd.DataFrame) -> plt.Figure:
     """Relative difference of the project's linearisations from thesis Appendix B.
 
     ``table``: ``linearisation_vs_appendix_b.csv``: the models' own linearisations (HS and CF
@@ -104,9 +104,11 @@ def fig_e_1(cf: Mapping[str, np.ndarray], cf_original_seat: Mapping[str, np.ndar
     return fig
 
 
-def example_runs(nt: Mapping[str, np.ndarray], np_: Mapping[str, np.ndarray],
+def figs_example_runs(nt: Mapping[str, np.ndarray], np_: Mapping[str, np.ndarray],
                  model: str = "") -> plt.Figure:
-    """Roll angle of the six example runs: NT (legs fixed + torques) against NP (moving legs).
+    """Roll angle of the six example runs: NT (legs fixed + torques) against NP (moving legs),
+    one model each: ``nonlinear_examples_HS``, ``nonlinear_examples_CF``,
+    ``nonlinear_examples_HR``, ``nonlinear_examples_CR`` (not thesis figures).
 
     ``nt``, ``np_``: the ``results/intermediate/time/<method>_<model>.npz`` contents.
     """

@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
-__all__ = ["AMP_NORM", "RD_NORM", "fig_orbit_maps", "fig_fine_maps", "fig_continuation"]
+__all__ = ["AMP_NORM", "RD_NORM", "figs_orbit_maps", "periodic_fine_maps", "periodic_continuation"]
 
 AMP_NORM = (1e-4, 1.0)  # rad, colour range of the amplitude maps
 RD_NORM = (1e-3, 1e2)   # percent
@@ -66,10 +66,11 @@ def _axes_labels(axes) -> None:
         ax.set_ylabel(r"cadence $\omega$ (rad/s)")
 
 
-def fig_orbit_maps(orbits: Mapping[str, Mapping], model: str,
+def figs_orbit_maps(orbits: Mapping[str, Mapping], model: str,
                    methods: Sequence[str] = ("NT", "NP"),
                    sims: Mapping[str, Mapping] | None = None) -> plt.Figure:
-    """Cadence amplitude maps of one model: PS, periodic orbit, simulation, and their RD.
+    """Cadence amplitude maps of one model: PS, periodic orbit, simulation, and their RD;
+    ``periodic_maps_HS``, ``periodic_maps_CF``, ``periodic_maps_HR``, ``periodic_maps_CR``.
 
     Columns: roll, steer. Rows, for each method: the particular solution of the model's own
     linearisation (PS); the periodic orbit by shooting, hatched where unstable (``///``: a
@@ -128,7 +129,7 @@ def fig_orbit_maps(orbits: Mapping[str, Mapping], model: str,
     return _freeze_layout(fig)
 
 
-def fig_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.Figure:
+def periodic_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.Figure:
     """Orbit amplitude maps of every model on the finer grid (one row per model, roll and
     steer); unstable orbits hatched."""
     models = list(fine)
@@ -147,7 +148,7 @@ def fig_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.Figure
     return _freeze_layout(fig)
 
 
-def fig_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
+def periodic_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
     """Continuation diagram at the reference cadence, one row per model: roll amplitude (left)
     and the largest Floquet multiplier modulus (right) along each branch (solid: stable, dashed:
     unstable, markers: multiplier crossings), the linear-limit branch scaled back to full torque

@@ -68,7 +68,9 @@ class FigureSpec:
     group : str
         Snakemake job that draws it (figures of a group share one Python start-up).
     function : str
-        ``"<module>.<function>"`` in :mod:`pedalrepro.figures`.
+        ``"<module>.<function>"`` in :mod:`pedalrepro.figures`: the id itself when the function
+        draws this id only, ``figs_<topic>`` when it draws several
+        (``tests/figures/test_figure_names.py``).
     inputs : dict
         Keyword argument -> file relative to the results folder.
     kwargs : dict
@@ -126,30 +128,30 @@ for _fid in ("fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5", "fig_2_6", "fig_2_7", "
               {"data": _i("section2/disturbance_hybrid.npz")})
 
 # ---- linear (Sec 3, Appendices F, G, H) ------------------------------------------------------
-_register("fig_3_6", "linear", "linear_overview", "linear.fig_eigenvalues",
+_register("fig_3_6", "linear", "linear_overview", "linear.figs_eigenvalues",
           {"eigen.benchmark": _i("eigen/benchmark.npz")}, {"models": ("benchmark",)})
-_register("fig_3_9", "linear", "linear_overview", "linear.fig_eigenvalues",
+_register("fig_3_9", "linear", "linear_overview", "linear.figs_eigenvalues",
           {f"eigen.{m}": _i(f"eigen/{m}.npz") for m in MODELS4}, {"models": MODELS4})
-_register("fig_3_8", "linear", "linear_overview", "linear.fig_gear_grid",
+_register("fig_3_8", "linear", "linear_overview", "linear.fig_3_8",
           {"grid": _i("figures/gear_grid.npz")})
-_register("fig_3_30", "linear", "linear_overview", "linear.fig_cam_time",
+_register("fig_3_30", "linear", "linear_overview", "linear.fig_3_30",
           {"cam": _i("figures/cam_HS.npz")}, {"model": "HS"})
 for _fid, _m in (("fig_3_31", "HS"), ("fig_f_1", "CF"), ("fig_f_2", "HR"), ("fig_f_3", "CR")):
-    _register(_fid, "linear", "linear_overview", "linear.fig_neglected_momenta",
+    _register(_fid, "linear", "linear_overview", "linear.figs_neglected_momenta",
               {"data": _i(f"figures/neglected_{_m}.npz")}, {"model": _m})
-_register("fig_3_35", "linear", "linear_overview", "linear.fig_amplitude_maps",
+_register("fig_3_35", "linear", "linear_overview", "linear.fig_3_35",
           {**{f"ps.{m}": _i(f"ps/{m}.npz") for m in MODELS4},
            "grid": _i("figures/gear_grid.npz")}, {"models": MODELS4})
-_register("fig_3_36", "linear", "linear_overview", "linear.fig_gear_sections",
+_register("fig_3_36", "linear", "linear_overview", "linear.figs_gear_sections",
           {"sections": _i("figures/gear_sections_models.npz")}, {"models": MODELS4})
-_register("fig_g_8", "linear", "linear_overview", "linear.fig_gear_sections",
+_register("fig_g_8", "linear", "linear_overview", "linear.figs_gear_sections",
           {"sections": _i("figures/gear_sections_benchmark.npz")}, {"models": ("benchmark",)})
-_register("fig_g_7", "linear", "linear_overview", "linear.fig_benchmark_ps",
+_register("fig_g_7", "linear", "linear_overview", "linear.fig_g_7",
           {"ps": _i("ps/benchmark.npz"), "eig": _i("eigen/benchmark.npz")})
-_register("fig_3_37", "linear", "linear_overview", "linear.fig_rd_reference",
+_register("fig_3_37", "linear", "linear_overview", "linear.fig_3_37",
           {**{f"rd.{m}": _i(f"rd/{m}.npz") for m in MODELS4},
            **{f"eigen.{m}": _i(f"eigen/{m}.npz") for m in MODELS4}}, {"models": MODELS4})
-_register("fig_3_38", "linear", "linear_overview", "linear.fig_rd_models",
+_register("fig_3_38", "linear", "linear_overview", "linear.fig_3_38",
           {"pairs": _i("rd/pairs.npz")})
 
 
@@ -176,17 +178,17 @@ for _ft, _ff, _m, _c in (("fig_3_10", "fig_3_20", "HS", "roll"),
                          ("fig_3_16", "fig_3_26", "CR", "roll"),
                          ("fig_3_17", "fig_3_27", "CR", "steer")):
     _ps = {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}
-    _time_figure(_ft, "linear.fig_ps_time", _m, _c, "linear_time", _ps)
-    _time_figure(_ff, "linear.fig_fft", _m, _c, "linear_spectra", _ps)
+    _time_figure(_ft, "linear.figs_ps_time", _m, _c, "linear_time", _ps)
+    _time_figure(_ff, "linear.figs_fft", _m, _c, "linear_spectra", _ps)
 for _fid, _m, _c in (("fig_g_1", "HS", "roll"), ("fig_g_2", "CF", "roll"),
                      ("fig_g_3", "CF", "steer"), ("fig_g_4", "HR", "roll"),
                      ("fig_g_5", "HR", "steer"), ("fig_g_6", "CR", "roll")):
-    _time_figure(_fid, "linear.fig_ps_time", _m, _c, "linear_time",
+    _time_figure(_fid, "linear.figs_ps_time", _m, _c, "linear_time",
                  {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}, single_harmonic=True)
-for _fid, _func, _m, _g in (("fig_3_18", "linear.fig_series_time", "HS", "linear_time"),
-                            ("fig_3_19", "linear.fig_series_time", "CR", "linear_time"),
-                            ("fig_3_28", "linear.fig_series_fft", "HS", "linear_spectra"),
-                            ("fig_3_29", "linear.fig_series_fft", "CR", "linear_spectra")):
+for _fid, _func, _m, _g in (("fig_3_18", "linear.figs_series_time", "HS", "linear_time"),
+                            ("fig_3_19", "linear.figs_series_time", "CR", "linear_time"),
+                            ("fig_3_28", "linear.figs_series_fft", "HS", "linear_spectra"),
+                            ("fig_3_29", "linear.figs_series_fft", "CR", "linear_spectra")):
     _time_figure(_fid, _func, _m, "steer", _g,
                  {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}, series=True)
 # Fig H.6's caption repeats "roll, HR" (Fig 3.32); the set of appendix figures implies HR steer.
@@ -194,7 +196,7 @@ for _fid, _m, _c in (("fig_3_32", "HR", "roll"), ("fig_3_33", "CF", "roll"),
                      ("fig_h_1", "HS", "roll"), ("fig_h_2", "HS", "steer"),
                      ("fig_h_3", "CF", "steer"), ("fig_h_4", "CR", "roll"),
                      ("fig_h_5", "CR", "steer"), ("fig_h_6", "HR", "steer")):
-    _register(_fid, "linear", "linear_rd", "linear.fig_rd_points",
+    _register(_fid, "linear", "linear_rd", "linear.figs_rd_points",
               _time_inputs(_m, {"rd": _i(f"rd/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}),
               {"model": _m, "coord": _c},
               optional=[f"time.{m}" for m in OPTIONAL_METHODS],
@@ -211,10 +213,10 @@ _register("fig_e_1", "nonlinear", "nonlinear", "nonlinear.fig_e_1",
 # Not thesis figures: the six example runs of NT against NP per model (the book's Sec 3.4).
 for _fid, _m in (("nonlinear_examples_HS", "HS"), ("nonlinear_examples_CF", "CF"),
                 ("nonlinear_examples_HR", "HR"), ("nonlinear_examples_CR", "CR")):
-    _register(_fid, "nonlinear", "nonlinear", "nonlinear.example_runs",
+    _register(_fid, "nonlinear", "nonlinear", "nonlinear.figs_example_runs",
               {"nt": _i(f"time/NT_{_m}.npz"), "np_": _i(f"time/NP_{_m}.npz")}, {"model": _m})
 _register("nonlinear_linearisation_vs_appendix_b", "nonlinear", "nonlinear",
-          "nonlinear.fig_linearisation_vs_appendix_b",
+          "nonlinear.nonlinear_linearisation_vs_appendix_b",
           {"table": _t("linearisation_vs_appendix_b")})
 
 # ---- validation (Sec 4.2) --------------------------------------------------------------------
@@ -222,29 +224,29 @@ _VALIDATION = {"per_run": _t("validation_runs"), "series": _i("mocap/series.npz"
                "source": _i("mocap/source.json"), "model": _i("figures/validation.npz")}
 for _s, (_ft, _ff) in {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
                        "HR": ("fig_4_4", "fig_4_8"), "CR": ("fig_4_5", "fig_4_9")}.items():
-    _register(_ft, "validation", "validation", "validation.draw_time_series", _VALIDATION,
+    _register(_ft, "validation", "validation", "validation.figs_time_series", _VALIDATION,
               {"system": _s})
-    _register(_ff, "validation", "validation", "validation.draw_frequency_domain", _VALIDATION,
+    _register(_ff, "validation", "validation", "validation.figs_frequency_domain", _VALIDATION,
               {"system": _s})
-_register("fig_4_10", "validation", "validation", "validation.draw_fig_4_10", _VALIDATION)
-_register("fig_4_11", "validation", "validation", "validation.draw_fig_4_11", _VALIDATION)
+_register("fig_4_10", "validation", "validation", "validation.fig_4_10", _VALIDATION)
+_register("fig_4_11", "validation", "validation", "validation.fig_4_11", _VALIDATION)
 # Not a thesis figure: the REAL public-subset run (measured vs model, time and spectrum), or a
 # panel saying the build has none.
-_register("real_run_panel", "validation", "validation", "validation.draw_real_run_panel",
+_register("real_run_panel", "validation", "validation", "validation.real_run_panel",
           {"source": _VALIDATION["source"], "model": _VALIDATION["model"]})
 
 
 # ---- periodic orbits (beyond the thesis; pedalrepro.periodic, rules/periodic.smk) -------------
 for _fid, _m in (("periodic_maps_HS", "HS"), ("periodic_maps_CF", "CF"),
                 ("periodic_maps_HR", "HR"), ("periodic_maps_CR", "CR")):
-    _register(_fid, "periodic", "periodic", "periodic.fig_orbit_maps",
+    _register(_fid, "periodic", "periodic", "periodic.figs_orbit_maps",
               {**{f"orbits.{k}": _i(f"periodic/thesis_{k}_{_m}.npz") for k in PERIODIC_METHODS},
                **{f"sims.{k}": _i(f"time/{k}_{_m}.npz") for k in PERIODIC_METHODS}},
               {"model": _m, "methods": PERIODIC_METHODS},
               optional=[f"sims.{k}" for k in PERIODIC_METHODS])
-_register("periodic_continuation", "periodic", "periodic", "periodic.fig_continuation",
+_register("periodic_continuation", "periodic", "periodic", "periodic.periodic_continuation",
           {f"branches.{m}": _i(f"periodic/branch_{m}.npz") for m in MODELS4})
-_register("periodic_fine_maps", "periodic", "periodic", "periodic.fig_fine_maps",
+_register("periodic_fine_maps", "periodic", "periodic", "periodic.periodic_fine_maps",
           {f"fine.{m}": _i(f"periodic/fine_{PERIODIC_FINE_METHOD}_{m}.npz") for m in MODELS4},
           {"method": PERIODIC_FINE_METHOD})
 

@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 
 __all__ = [
     "SEGMENTS", "SEGMENT_COLOURS", "LEG", "SIMPLE", "fig_2_2", "fig_2_3", "fig_2_4", "fig_2_5",
-    "fig_2_6", "fig_2_7", "fig_d_1", "table_d_1_wide", "fig_table_d_1_deviation",
+    "fig_2_6", "fig_2_7", "fig_d_1", "table_d_1_wide", "deviation_from_table_d_1",
 ]
 
 SEGMENTS = ("crank", "shank", "thigh")
@@ -223,7 +223,7 @@ def table_d_1_wide(table: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def fig_table_d_1_deviation(table: pd.DataFrame, published: pd.DataFrame) -> Figure:
+def deviation_from_table_d_1(table: pd.DataFrame, published: pd.DataFrame) -> Figure:
     """Relative amplitude deviation and phase deviation of Table D.1 from the published table
     (long format, same columns), per case and harmonic; a check figure, not in the thesis."""
     merged = table.merge(published, on=["case", "axis", "n"], suffixes=("", "_pub"))

@@ -2,13 +2,18 @@
 
 Each function takes arrays/DataFrames and returns a matplotlib Figure; the Snakemake rule saves
 it and the notebook shows it. ``synthetic_reason`` (non-empty when the data are the synthetic
-stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_stamp`. The
-``draw_*`` functions are what :mod:`pedalrepro.figures.registry` calls: they take the loaded
-files (per-run table, measured series, data source, and the model maps and series written by
-the rule ``validation_figure_data``, :func:`pedalrepro.figdata.validation`). Models are drawn in
-their chapter-3 colours (:mod:`pedalrepro.figures.palette`). Figures 4.2-4.11 show only the
-build's main source (``source.json``); the REAL public-subset run has its own,
-non-thesis panel, ``real_run_panel`` (:func:`draw_real_run_panel`), never pooled with them.
+stand-in) stamps the figure SYNTHETIC with :func:`pedalrepro.figures.synthetic_stamp`. What
+:mod:`pedalrepro.figures.registry` calls is named after the ids it draws (``fig_4_10``,
+``fig_4_11``, ``real_run_panel``; ``figs_time_series`` and ``figs_frequency_domain`` for four
+ids each): these take the loaded files (per-run table, measured series, data source, and the
+model maps and series written by the rule ``validation_figure_data``,
+:func:`pedalrepro.figdata.validation`) and hand the arrays to the drawing functions
+(:func:`time_series`, :func:`frequency_domain`, :func:`run_amplitude_maps`,
+:func:`run_relative_differences`, :func:`run_panel`), which a test or a notebook can call on
+arrays of its own. Models are drawn in their chapter-3 colours
+(:mod:`pedalrepro.figures.palette`). Figures 4.2-4.11 show only the build's main source
+(``source.json``); the REAL public-subset run has its own, non-thesis panel,
+``real_run_panel``, never pooled with them.
 Figs 4.10 and 4.11 also show the CF system's published measurements, Moore's closed-loop
 spectra (:mod:`pedalrepro.mocap.spectra`), as diamonds labelled "measured (published
 spectra)": real data in every build, so a SYNTHETIC stamp says they are not part of it.
@@ -31,9 +36,10 @@ from .palette import MEASURED_COLOUR, model_colour
 
 __all__ = [
     "SYSTEM_FIGURES", "ExampleRun", "PSMap", "LEVELS", "time_series", "frequency_domain",
-    "SPECTRA_LABEL", "SPECTRA_MARKER", "SpectraPoints", "fig_4_10", "fig_4_11", "SYSTEMS",
-    "draw_time_series", "draw_frequency_domain", "draw_fig_4_10", "draw_fig_4_11",
-    "real_run_panel", "no_real_run", "draw_real_run_panel",
+    "SPECTRA_LABEL", "SPECTRA_MARKER", "SpectraPoints", "run_amplitude_maps",
+    "run_relative_differences", "SYSTEMS",
+    "figs_time_series", "figs_frequency_domain", "fig_4_10", "fig_4_11",
+    "run_panel", "no_real_run", "real_run_panel",
 ]
 
 SYSTEM_FIGURES = {"HS": ("fig_4_2", "fig_4_6"), "CF": ("fig_4_3", "fig_4_7"),
@@ -204,7 +210,7 @@ def _spectra_note(reason: str, spectra: SpectraPoints | None) -> str:
     return reason
 
 
-def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: str = "",
+def run_amplitude_maps(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: str = "",
              spectra: SpectraPoints | None = None, runs_label: str = "runs") -> Figure:
     """Fig 4.10: every run as a circle on the particular-solution map of its system; fill =
     measured amplitude, edge = model / measured ratio. ``spectra``: the measured CF spectra's
@@ -249,7 +255,7 @@ def fig_4_10(per_run: pd.DataFrame, maps: dict[str, PSMap], synthetic_reason: st
     return fig
 
 
-def fig_4_11(per_run: pd.DataFrame, synthetic_reason: str = "",
+def run_relative_differences(per_run: pd.DataFrame, synthetic_reason: str = "",
              spectra: SpectraPoints | None = None) -> Figure:
     """Fig 4.11: relative difference model vs measurement of every run, per system;
     ``spectra``: the open-loop CF model against the measured CF spectra, as diamonds."""
@@ -308,15 +314,17 @@ def _examples(per_run: pd.DataFrame, series: dict, model: dict, system: str) -> 
     return out
 
 
-def draw_time_series(per_run, series, source, model, system: str) -> Figure:
-    """Figs 4.2-4.5 from the registry's files."""
+def figs_time_series(per_run, series, source, model, system: str) -> Figure:
+    """Figs 4.2-4.5 from the registry's files, one system each: ``fig_4_2`` (HS),
+    ``fig_4_3`` (CF), ``fig_4_4`` (HR), ``fig_4_5`` (CR); drawn by :func:`time_series`."""
     return time_series(system, _examples(_main(per_run, source), series, model, system),
                        _maps(model)[system],
                        _reason(source))
 
 
-def draw_frequency_domain(per_run, series, source, model, system: str) -> Figure:
-    """Figs 4.6-4.9 from the registry's files."""
+def figs_frequency_domain(per_run, series, source, model, system: str) -> Figure:
+    """Figs 4.6-4.9 from the registry's files, one system each: ``fig_4_6`` (HS),
+    ``fig_4_7`` (CF), ``fig_4_8`` (HR), ``fig_4_9`` (CR); drawn by :func:`frequency_domain`."""
     ex = _examples(_main(per_run, source), series, model, system)
     fs = float(1.0 / np.median(np.diff(ex[0].t_s)))
     return frequency_domain(system, ex, _maps(model)[system], fs, _reason(source))
@@ -326,18 +334,21 @@ def _runs_label(source: dict) -> str:
     return "treadmill runs" if source["data_source"] == "figshare" else "SYNTHETIC runs"
 
 
-def draw_fig_4_10(per_run, series, source, model) -> Figure:
-    """Fig 4.10 from the registry's files (the CF spectra's points from the figure data)."""
-    return fig_4_10(_main(per_run, source), _maps(model), _reason(source),
+def fig_4_10(per_run, series, source, model) -> Figure:
+    """Fig 4.10 from the registry's files (the CF spectra's points from the figure data),
+    drawn by :func:`run_amplitude_maps`."""
+    return run_amplitude_maps(_main(per_run, source), _maps(model), _reason(source),
                     SpectraPoints.from_arrays(model), _runs_label(source))
 
 
-def draw_fig_4_11(per_run, series, source, model) -> Figure:
-    """Fig 4.11 from the registry's files (the CF spectra's points from the figure data)."""
-    return fig_4_11(_main(per_run, source), _reason(source), SpectraPoints.from_arrays(model))
+def fig_4_11(per_run, series, source, model) -> Figure:
+    """Fig 4.11 from the registry's files (the CF spectra's points from the figure data),
+    drawn by :func:`run_relative_differences`."""
+    return run_relative_differences(_main(per_run, source), _reason(source),
+                                    SpectraPoints.from_arrays(model))
 
 
-def real_run_panel(run: ExampleRun, system: str, data_label: str, window_s: float = 10.0
+def run_panel(run: ExampleRun, system: str, data_label: str, window_s: float = 10.0
                    ) -> Figure:
     """A Fig 4.2/4.6-style panel of one REAL run (public subset): measured vs open-loop model
     roll and steer over ``window_s`` (top) and their Hann amplitude spectra (bottom), with the
@@ -384,10 +395,11 @@ def no_real_run(text: str) -> Figure:
     return fig
 
 
-def draw_real_run_panel(source, model) -> Figure:
+def real_run_panel(source, model) -> Figure:
     """The REAL run's panel (not a thesis figure) from the registry's files: the real
     public-subset run that :func:`pedalrepro.figdata.validation` wrote into ``model``
-    (keys ``real_*``), or a figure saying the build has none."""
+    (keys ``real_*``), drawn by :func:`run_panel`, or a figure saying the build has none
+    (:func:`no_real_run`)."""
     if "real_run_id" not in model:
         return no_real_run("No real public-subset run in this build (data_source: "
                            f"{source['data_source']}; see the chapter's data note)")
@@ -395,4 +407,4 @@ def draw_real_run_panel(source, model) -> Figure:
                      float(model["real_cadence_rpm"]), model["real_t_s"], model["real_roll_rad"],
                      model["real_steer_rad"], model["real_model_roll_rad"],
                      model["real_model_steer_rad"])
-    return real_run_panel(run, str(model["real_system"]), f"REAL run {run.run_id}")
+    return run_panel(run, str(model["real_system"]), f"REAL run {run.run_id}")
