@@ -122,7 +122,7 @@ def _line_frame(shoulder: np.ndarray, grip: np.ndarray) -> tuple[np.ndarray, ...
     u = (grip - shoulder) / np.linalg.norm(grip - shoulder)
     down = np.array([0.0, 0.0, 1.0]) - u[2] * u
     down /= np.linalg.norm(down)
-    out = np.cross(u, down)
+    out = _arms.cross3(u, down)
     return u, down, out if out[1] > 0 else -out
 
 
@@ -140,7 +140,7 @@ def plane_normal(shoulder: np.ndarray, grip: np.ndarray, elbow_dir_rad: float) -
     oriented so that the loop's branch ``sign = -1`` puts the elbow on that side."""
     u, down, out = _line_frame(shoulder, grip)
     e = np.cos(elbow_dir_rad) * down + np.sin(elbow_dir_rad) * out
-    return np.cross(e, u)
+    return _arms.cross3(e, u)
 
 
 def loop(design: ArmDesign, bicycle: str, drop: np.ndarray) -> _arms.ArmLoop:
