@@ -100,11 +100,12 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     One layout for the three uses: the figure is drawn once at the PNG's dpi (its layout engine,
     e.g. constrained layout, runs there), the colour bars are checked on that draw, the tight
     bounding box is taken from it (padded by ``savefig.pad_inches``), and the layout is then
-    frozen for the two files. ``savefig(bbox_inches="tight")`` would lay out and draw the
-    figure again for each file: five draws and three layouts per figure instead of three and
-    one (the saves of 6 chapter-3/4 figures: 31-33 s -> 22 s). Constrained layout is not
-    exactly idempotent (a second pass moves axes by ~2e-4 of the figure), so a PNG can differ
-    from the old path's by a pixel of placement or size (tests/figures/test_figures.py)."""
+    frozen for the two files (the layout engine removed). ``savefig(bbox_inches="tight")``
+    would lay out and draw the figure again for each file: five draws and three layouts per
+    figure instead of three and one (the saves of the 16 linear-time figures: 45-48 s -> 34-35
+    s, this machine). Constrained layout is not exactly idempotent (a second pass moves axes
+    by ~2e-4 of the figure), so a PNG can differ from the old path's by a pixel of placement
+    or size (tests/figures/test_figures.py)."""
     import struct
 
     import matplotlib.pyplot as plt
@@ -123,7 +124,12 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
             plt.close(fig)
             raise ValueError(f"{path.name}: " + "; ".join(overlaps))
         bbox_in = fig.get_tightbbox(renderer).padded(pad_in)
-        fig.set_layout_engine("none")
+        # Frozen: no layout engine at all. ``set_layout_engine("none")`` would leave a
+        # placeholder engine, and savefig lays out (draws, rendering disabled) a figure that
+        # has one before each file: five draws instead of three.
+        with matplotlib.rc_context({"figure.autolayout": False,
+                                    "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)
         fig.set_dpi(screen_dpi)
         path.parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(path, bbox_inches=bbox_in)
