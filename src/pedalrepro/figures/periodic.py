@@ -27,25 +27,6 @@ def _mesh(ax, v, w, z, norm, cmap="viridis"):
                          shading="nearest", rasterized=True)
 
 
-def _freeze_layout(fig: plt.Figure) -> plt.Figure:
-    """Run the constrained layout once, at the resolution the figure is saved at, and keep it.
-
-    The writer draws every figure three times (the colour-bar overlap check of
-    :func:`pedalrepro.figures.page.save`, the PNG and the PDF), and each draw re-ran the layout
-    of these 20-40 axes: 2.5-3.5 s of the 13 s per map figure. The layout depends only on the
-    figure's artists, which are final here, so one run gives the positions every draw uses."""
-    import matplotlib
-
-    dpi, save_dpi = fig.dpi, matplotlib.rcParams["savefig.dpi"]
-    fig.set_dpi(dpi if save_dpi == "figure" else float(save_dpi))
-    try:
-        fig.draw_without_rendering()
-    finally:
-        fig.set_dpi(dpi)
-    fig.set_layout_engine("none")
-    return fig
-
-
 def _unstable(ax, v, w, stable, converged) -> None:
     """Hatch the grid cells whose orbit is unstable (or did not converge: cross-hatched)."""
     forced = w[None, :] > 0
@@ -126,7 +107,7 @@ def figs_orbit_maps(orbits: Mapping[str, Mapping], model: str,
         if rd_mesh is not None:
             fig.colorbar(rd_mesh, ax=axes[rows + 3, :], label="RD (%)", shrink=0.9)
     _axes_labels(axes)
-    return _freeze_layout(fig)
+    return fig
 
 
 def periodic_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.Figure:
@@ -145,7 +126,7 @@ def periodic_fine_maps(fine: Mapping[str, Mapping], method: str = "NT") -> plt.F
             axes[i, j].set_title(f"{model} {method} {coord}", fontsize=9)
     _axes_labels(axes)
     fig.colorbar(mesh, ax=axes, label="cadence amplitude of the orbit (rad)", shrink=0.6)
-    return _freeze_layout(fig)
+    return fig
 
 
 def periodic_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
@@ -191,4 +172,4 @@ def periodic_continuation(branches: Mapping[str, Mapping]) -> plt.Figure:
     for ax in axes[-1, :]:
         ax.set_xlabel("forward speed v (m/s)")
     axes[0, 0].legend(fontsize=8)
-    return _freeze_layout(fig)
+    return fig
