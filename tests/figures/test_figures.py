@@ -370,6 +370,47 @@ def test_save_lays_out_once_and_matches_savefig_tight(tmp_path):
     plt.close("all")
 
 
+def test_png_is_the_first_draw_cropped_as_savefig_renders_it(tmp_path):
+    """figures.save writes the PNG from its one draw at the PNG's dpi, cropped to the padded
+    tight box grown to whole pixels: byte for byte what savefig renders with that box (colour
+    bar, suptitle and the padding past the figure's edge included). A text sticking out of
+    the figure, which that draw clips, makes it fall back to savefig's own render."""
+    from matplotlib.transforms import Bbox
+
+    from pedalrepro.figures import page
+
+    def make(outside=False):
+        with figures.style():
+            fig, axes = plt.subplots(1, 2, figsize=(6.0, 3.0), layout="constrained")
+            for k, ax in enumerate(axes):
+                ax.pcolormesh(np.arange(12.0).reshape(3, 4) * (k + 1))
+                ax.plot([0, 4], [0, 3], "k--")
+                ax.set_xlabel("forward speed v (m/s)")
+            fig.colorbar(axes[0].collections[0], ax=axes, label="amplitude (rad)")
+            fig.suptitle("a title")
+            if outside:
+                fig.text(1.02, 0.5, "outside", fontsize=9)
+        return fig
+
+    for outside in (False, True):
+        fig = make(outside)
+        with figures.style():
+            dpi = float(matplotlib.rcParams["savefig.dpi"])
+            fig.set_dpi(dpi)
+            fig.canvas.draw()
+            tight = fig.get_tightbbox(fig.canvas.get_renderer())
+            box = page._whole_pixels(tight.padded(0.04), dpi)
+            assert all(abs(x * dpi - round(x * dpi)) < 1e-9 for x in box.extents)
+            assert box.contains(tight.x0, tight.y0) and box.contains(tight.x1, tight.y1)
+            written = page._png_from_draw(fig, tight, box, dpi, tmp_path / "mine.png")
+            assert written is (not outside)
+            fig.set_layout_engine("none")
+            fig.savefig(tmp_path / "ref.png", bbox_inches=Bbox(box.get_points()))
+        if written:
+            assert (tmp_path / "mine.png").read_bytes() == (tmp_path / "ref.png").read_bytes()
+        plt.close(fig)
+
+
 def test_overlapping_colour_bars_are_found():
     """Two colour bars on one spot (the periodic maps' fault, issue 25) are found from the drawn
     bounding boxes; two side by side, each beside its own axes, are not."""

@@ -10,6 +10,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 from .. import paths
 
@@ -90,6 +91,48 @@ def overlapping_colorbars(fig: matplotlib.figure.Figure, renderer=None) -> list[
     return found
 
 
+def _whole_pixels(bbox, dpi: float):
+    """``bbox`` (inches) grown to whole pixels at ``dpi``, so that the PNG is a crop of a
+    draw at that dpi (:func:`_png_from_draw`) and savefig's own render is the same."""
+    import math
+
+    from matplotlib.transforms import Bbox
+
+    return Bbox([[math.floor(bbox.x0 * dpi) / dpi, math.floor(bbox.y0 * dpi) / dpi],
+                 [math.ceil(bbox.x1 * dpi) / dpi, math.ceil(bbox.y1 * dpi) / dpi]])
+
+
+def _png_from_draw(fig: matplotlib.figure.Figure, tight_in, bbox_in, dpi: float,
+                   path: Path) -> bool:
+    """Write the PNG from the draw just made at ``dpi`` (Agg canvas), cropped to ``bbox_in``
+    (whole pixels; where it reaches past the figure's edge, by the padding around the tight box
+    ``tight_in``, filled with the figure's face colour, as savefig fills it), and written as
+    savefig writes it (``matplotlib.image.imsave``, the same dpi and Software metadata).
+    Returns False, writing nothing, when the canvas is not Agg's or an artist reaches outside
+    the figure (the draw clipped it; savefig renders it). One render less per figure."""
+    import matplotlib.colors
+    import matplotlib.image
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        return False
+    width, height = fig.canvas.get_width_height(physical=True)
+    if (tight_in.x0 < 0 or tight_in.y0 < 0 or tight_in.x1 * dpi > width
+            or tight_in.y1 * dpi > height):
+        return False
+    c0, c1 = round(bbox_in.x0 * dpi), round(bbox_in.x1 * dpi)
+    r0, r1 = height - round(bbox_in.y1 * dpi), height - round(bbox_in.y0 * dpi)
+    face = np.round(np.asarray(matplotlib.colors.to_rgba(fig.get_facecolor())) * 255)
+    out = np.empty((r1 - r0, c1 - c0, 4), np.uint8)
+    out[...] = face.astype(np.uint8)
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    rs, cs = slice(max(r0, 0), min(r1, height)), slice(max(c0, 0), min(c1, width))
+    out[rs.start - r0:rs.stop - r0, cs.start - c0:cs.stop - c0] = rgba[rs, cs]
+    matplotlib.image.imsave(path, out, format="png", dpi=dpi, metadata={
+        "Software": f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/"})
+    return True
+
+
 def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     """Save ``fig`` to ``path`` (PNG) and its vector copy beside it (same stem, ``.pdf``), in
     the project's style, creating the folder; close the figure. Checks :func:`check_legible`
@@ -97,15 +140,15 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     (:func:`overlapping_colorbars`; so every figure a rule saves is checked, in every build), and
     that the PNG (bbox tight) is not wider than the content width plus 5 %.
 
-    One layout for the three uses: the figure is drawn once at the PNG's dpi (its layout engine,
-    e.g. constrained layout, runs there), the colour bars are checked on that draw, the tight
-    bounding box is taken from it (padded by ``savefig.pad_inches``), and the layout is then
-    frozen for the two files (the layout engine removed). ``savefig(bbox_inches="tight")``
-    would lay out and draw the figure again for each file: five draws and three layouts per
-    figure instead of three and one (the saves of the 16 linear-time figures: 45-48 s -> 34-35
-    s, this machine). Constrained layout is not exactly idempotent (a second pass moves axes
-    by ~2e-4 of the figure), so a PNG can differ from the old path's by a pixel of placement
-    or size (tests/figures/test_figures.py)."""
+    One layout and two renders for the three uses: the figure is drawn once at the PNG's dpi
+    (its layout engine, e.g. constrained layout, runs there), the colour bars are checked on
+    that draw, the tight bounding box is taken from it (padded by ``savefig.pad_inches`` and
+    grown to whole pixels), the PNG is that draw cropped to the box (:func:`_png_from_draw`),
+    and the layout is then frozen (the layout engine removed) for the PDF. Before: five renders
+    and three layouts per figure (``savefig(bbox_inches="tight")`` lays out and draws again
+    for each file, and a placeholder layout engine draws once more). Constrained layout is not
+    exactly idempotent (a second pass moves axes by ~2e-4 of the figure), so a PNG can differ
+    from savefig's by a pixel of placement or size (tests/figures/test_figures.py)."""
     import struct
 
     import matplotlib.pyplot as plt
@@ -123,7 +166,10 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
         if overlaps:
             plt.close(fig)
             raise ValueError(f"{path.name}: " + "; ".join(overlaps))
-        bbox_in = fig.get_tightbbox(renderer).padded(pad_in)
+        tight_in = fig.get_tightbbox(renderer)
+        bbox_in = _whole_pixels(tight_in.padded(pad_in), dpi)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        png_done = _png_from_draw(fig, tight_in, bbox_in, dpi, path)
         # Frozen: no layout engine at all. ``set_layout_engine("none")`` would leave a
         # placeholder engine, and savefig lays out (draws, rendering disabled) a figure that
         # has one before each file: five draws instead of three.
@@ -131,8 +177,8 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
                                     "figure.constrained_layout.use": False}):
             fig.set_layout_engine(None)
         fig.set_dpi(screen_dpi)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, bbox_inches=bbox_in)
+        if not png_done:
+            fig.savefig(path, bbox_inches=bbox_in)
         fig.savefig(path.with_suffix(".pdf"), bbox_inches=bbox_in)
     plt.close(fig)
     width_px = struct.unpack(">I", path.read_bytes()[16:20])[0]
