@@ -333,7 +333,7 @@ def test_figs_4_10_4_11_show_the_measured_cf_spectra(tmp_path):
 
 def test_save_lays_out_once_and_matches_savefig_tight(tmp_path):
     """figures.save lays the figure out once at the PNG's dpi and freezes it: the PNG has the
-    size matplotlib's own ``savefig(bbox_inches="tight")`` gives to 1 px, the axes keep the
+    size matplotlib's own ``savefig(bbox_inches="tight")`` gives to 2 px, the axes keep the
     positions of that one layout (to 1e-12), and the layout engine is off afterwards."""
     import struct
 
@@ -365,7 +365,8 @@ def test_save_lays_out_once_and_matches_savefig_tight(tmp_path):
     def size(name):
         return struct.unpack(">II", (tmp_path / name).read_bytes()[16:24])
 
-    assert np.max(np.abs(np.subtract(size("new.png"), size("ref.png")))) <= 1
+    # the box is grown to whole pixels (page._whole_pixels): up to 1 px at each edge
+    assert np.max(np.abs(np.subtract(size("new.png"), size("ref.png")))) <= 2
     assert (tmp_path / "new.pdf").stat().st_size > 0
     plt.close("all")
 

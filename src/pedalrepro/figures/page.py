@@ -148,7 +148,8 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     and three layouts per figure (``savefig(bbox_inches="tight")`` lays out and draws again
     for each file, and a placeholder layout engine draws once more). Constrained layout is not
     exactly idempotent (a second pass moves axes by ~2e-4 of the figure), so a PNG can differ
-    from savefig's by a pixel of placement or size (tests/figures/test_figures.py)."""
+    from savefig's tight one by a pixel of placement and up to 2 px of size (the box grown to
+    whole pixels; tests/figures/test_figures.py)."""
     import struct
 
     import matplotlib.pyplot as plt
