@@ -365,7 +365,7 @@ def test_save_lays_out_once_and_matches_savefig_tight(tmp_path):
     def size(name):
         return struct.unpack(">II", (tmp_path / name).read_bytes()[16:24])
 
-    # the box is grown to whole pixels (page._whole_pixels): up to 1 px at each edge
+    # the box is grown to whole pixels (page.whole_pixels): up to 1 px at each edge
     assert np.max(np.abs(np.subtract(size("new.png"), size("ref.png")))) <= 2
     assert (tmp_path / "new.pdf").stat().st_size > 0
     plt.close("all")
@@ -400,10 +400,10 @@ def test_png_is_the_first_draw_cropped_as_savefig_renders_it(tmp_path):
             fig.set_dpi(dpi)
             fig.canvas.draw()
             tight = fig.get_tightbbox(fig.canvas.get_renderer())
-            box = page._whole_pixels(tight.padded(0.04), dpi)
+            box = page.whole_pixels(tight.padded(0.04), dpi)
             assert all(abs(x * dpi - round(x * dpi)) < 1e-9 for x in box.extents)
             assert box.contains(tight.x0, tight.y0) and box.contains(tight.x1, tight.y1)
-            written = page._png_from_draw(fig, tight, box, dpi, tmp_path / "mine.png")
+            written = page.png_from_draw(fig, tight, box, dpi, tmp_path / "mine.png")
             assert written is (not outside)
             fig.set_layout_engine("none")
             fig.savefig(tmp_path / "ref.png", bbox_inches=Bbox(box.get_points()))

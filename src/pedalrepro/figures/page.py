@@ -16,7 +16,7 @@ from .. import paths
 
 __all__ = [
     "DATA_FILES", "style", "MAX_WIDTH_IN", "MIN_FONT_PT", "check_legible", "overlapping_colorbars",
-    "save", "synthetic_stamp",
+    "whole_pixels", "png_from_draw", "save", "synthetic_stamp",
 ]
 
 #: Read through ``paths.STYLE`` (see pedalrepro.dependencies).
@@ -91,9 +91,9 @@ def overlapping_colorbars(fig: matplotlib.figure.Figure, renderer=None) -> list[
     return found
 
 
-def _whole_pixels(bbox, dpi: float):
+def whole_pixels(bbox, dpi: float):
     """``bbox`` (inches) grown to whole pixels at ``dpi``, so that the PNG is a crop of a
-    draw at that dpi (:func:`_png_from_draw`) and savefig's own render is the same."""
+    draw at that dpi (:func:`png_from_draw`) and savefig's own render is the same."""
     import math
 
     from matplotlib.transforms import Bbox
@@ -102,7 +102,7 @@ def _whole_pixels(bbox, dpi: float):
                  [math.ceil(bbox.x1 * dpi) / dpi, math.ceil(bbox.y1 * dpi) / dpi]])
 
 
-def _png_from_draw(fig: matplotlib.figure.Figure, tight_in, bbox_in, dpi: float,
+def png_from_draw(fig: matplotlib.figure.Figure, tight_in, bbox_in, dpi: float,
                    path: Path) -> bool:
     """Write the PNG from the draw just made at ``dpi`` (Agg canvas), cropped to ``bbox_in``
     (whole pixels; where it reaches past the figure's edge, by the padding around the tight box
@@ -143,7 +143,7 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
     One layout and two renders for the three uses: the figure is drawn once at the PNG's dpi
     (its layout engine, e.g. constrained layout, runs there), the colour bars are checked on
     that draw, the tight bounding box is taken from it (padded by ``savefig.pad_inches`` and
-    grown to whole pixels), the PNG is that draw cropped to the box (:func:`_png_from_draw`),
+    grown to whole pixels), the PNG is that draw cropped to the box (:func:`png_from_draw`),
     and the layout is then frozen (the layout engine removed) for the PDF. Before: five renders
     and three layouts per figure (``savefig(bbox_inches="tight")`` lays out and draws again
     for each file, and a placeholder layout engine draws once more). Constrained layout is not
@@ -168,9 +168,9 @@ def save(fig: matplotlib.figure.Figure, path: str | Path) -> Path:
             plt.close(fig)
             raise ValueError(f"{path.name}: " + "; ".join(overlaps))
         tight_in = fig.get_tightbbox(renderer)
-        bbox_in = _whole_pixels(tight_in.padded(pad_in), dpi)
+        bbox_in = whole_pixels(tight_in.padded(pad_in), dpi)
         path.parent.mkdir(parents=True, exist_ok=True)
-        png_done = _png_from_draw(fig, tight_in, bbox_in, dpi, path)
+        png_done = png_from_draw(fig, tight_in, bbox_in, dpi, path)
         # Frozen: no layout engine at all. ``set_layout_engine("none")`` would leave a
         # placeholder engine, and savefig lays out (draws, rendering disabled) a figure that
         # has one before each file: five draws instead of three.
