@@ -77,3 +77,37 @@ def test_chord_start_saves_variational_evaluations():
     cold = s.solve(5.0, chord_start=False)
     warm = s.solve(5.0)
     assert warm.n_rhs < cold.n_rhs
+
+
+@pytest.mark.parametrize(("method", "omega_rad_s"), [("NT", OMEGA), ("NP", 5.5)])
+def test_guided_orbit_is_the_same_orbit_whatever_the_neighbours(method, omega_rad_s):
+    """The map's guides (OrbitSolver.solve guide/second: the converged orbits at the two next
+    lower speeds) change only Newton's start and chord Jacobian, not the orbit: at 4.4 m/s the
+    orbit guided by neighbours 0.2 m/s apart (the finer grid), 0.4 m/s apart (the thesis grid)
+    and unguided (the PS start) agree to Newton's tolerance, as the chord-started one above. The
+    guided chord Jacobian is closer to the orbit's own than the linearisation's (the speed-up:
+    fewer chord steps), and for NP, where the linearisation leaves the legs' inertia out, the
+    guided solve needs fewer right-hand-side evaluations."""
+    s = periodic.OrbitSolver("HR", method, omega_rad_s)
+    cold = s.solve(4.4)
+    g36, g38, g40, g42 = (s.solve(v) for v in (3.6, 3.8, 4.0, 4.2))
+    fine = s.solve(4.4, guide=g42, second=g40)
+    coarse = s.solve(4.4, guide=g40, second=g36)
+    assert all(o.converged for o in (cold, g36, g38, g40, g42, fine, coarse))
+    for warm in (fine, coarse):
+        assert warm.segments == cold.segments and warm.periodicity_residual <= 1e-9
+        for key in ("roll_amplitude_rad", "steer_amplitude_rad", "hold_torque_mean_nm"):
+            assert getattr(warm, key) == pytest.approx(getattr(cold, key), rel=1e-8)
+        for key in ("roll_phase_rad", "steer_phase_rad"):
+            assert getattr(warm, key) == pytest.approx(getattr(cold, key), abs=1e-8)
+        assert _match(warm.floquet_multipliers, cold.floquet_multipliers) < 1e-6
+        assert np.max(np.abs(warm.nodes - cold.nodes)) <= 1e-8 * np.max(np.abs(cold.nodes))
+    m = cold.segments
+    own = cold.jacobian
+
+    def off(jac):  # relative error of a chord Jacobian: the chord steps' contraction factor
+        return np.linalg.norm(np.linalg.solve(jac, own - jac), 2)
+
+    assert off(s.chord_jacobian(4.4, m, g42, g40)) < 0.1 * off(s.chord_jacobian(4.4, m))
+    if method == "NP":
+        assert fine.n_rhs < cold.n_rhs

@@ -23,9 +23,13 @@ def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float 
     """Periodic orbits on ``speeds x omegas`` (the maps of Fig 3.35/G.7 for the non-linear
     models).
 
-    Each point starts from the PS of the model's own linearisation; a failed point is retried
-    with twice the shooting segments and then from the converged neighbour at the next lower
-    speed. Zero cadence (no forcing) gives zero amplitude and NaN multipliers.
+    Each point starts from the PS of the model's own linearisation, corrected by the converged
+    orbits at the two next lower speeds (``guide`` and ``second`` of
+    :meth:`OrbitSolver.solve`: their departure from their own PS and the non-linear part of
+    their shooting Jacobian, extrapolated linearly in speed), so that the chord steps start
+    closer and contract faster; a failed point is retried from the PS alone with twice the
+    shooting segments and then from the converged neighbour at the next lower speed. Zero
+    cadence (no forcing) gives zero amplitude and NaN multipliers.
 
     Returns
     -------
@@ -57,9 +61,11 @@ def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float 
         out["ps_roll_amp_rad"][:, j] = np.abs(roll_ps[:, first])
         out["ps_steer_amp_rad"][:, j] = np.abs(steer_ps[:, first])
         previous: Orbit | None = None
+        guides: list[Orbit] = []  # converged orbits at the last two speeds, newest first
         for i, vi in enumerate(v):
             t0, c0 = time.perf_counter(), time.process_time()
-            orb = solver.solve(vi)
+            orb = solver.solve(vi, guide=guides[0] if guides else None,
+                               second=guides[1] if len(guides) > 1 else None)
             if not orb.converged:
                 orb = solver.solve(vi, segments=2 * orb.segments)
             if not orb.converged and previous is not None:
@@ -68,6 +74,7 @@ def orbit_map(model: str, method: str, speeds_m_s, omegas_rad_s, *, rtol: float 
             out["orbit_cpu_s"][i, j] = time.process_time() - c0
             if orb.converged:
                 previous = orb
+            guides = [orb] + guides[:1] if orb.converged else []
             out["roll_amp_rad"][i, j] = orb.roll_amplitude_rad
             out["steer_amp_rad"][i, j] = orb.steer_amplitude_rad
             out["roll_phase_rad"][i, j] = orb.roll_phase_rad
@@ -134,11 +141,11 @@ def write_submap(path, fine_path, speed_step_m_s: float, speed_max_m_s: float,
     """The orbit map on the ``0:step:max`` grids cut out of a map on a finer grid that contains
     them (``fine_path``, a :func:`write_map` file), saved as ``.npz`` like :func:`write_map`.
 
-    Every point of :func:`orbit_map` is solved from its own PS start, so the cut-out orbits are
-    those a map on the coarse grid computes, except where both first attempts fail and the last
-    retry starts from the converged neighbour at the next lower speed (0.2 m/s lower on the
-    finer grid of config/config.yaml instead of 0.4: the same orbit to Newton's tolerance); the
-    grids
+    Every point of :func:`orbit_map` is the same periodic orbit whatever its neighbours: they
+    only change the start and the chord Jacobian of Newton (the neighbours at 0.2 m/s on the
+    finer grid of config/config.yaml instead of 0.4), so the cut-out orbits are those a map on
+    the coarse grid computes to Newton's tolerance (residual at most 1e-10 of the orbit's size
+    at convergence; tests/periodic/test_periodic_speed.py solves a column both ways); the grids
     are the coarse ones (to the bit, as the simulation sweeps on that grid have them) and
     ``elapsed_s`` is the orbits' own time (``orbit_time_s`` summed).
     """
