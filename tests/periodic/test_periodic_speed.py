@@ -27,6 +27,16 @@ def _match(a: np.ndarray, b: np.ndarray) -> float:
     return float(max(np.min(np.abs(a - m)) for m in b) / np.max(np.abs(b)))
 
 
+def _assert_same_orbit(warm, cold) -> None:
+    """Two solutions of the same shooting equations (module docstring: the tolerances)."""
+    for key in ("roll_amplitude_rad", "steer_amplitude_rad", "hold_torque_mean_nm"):
+        assert getattr(warm, key) == pytest.approx(getattr(cold, key), rel=1e-8)
+    for key in ("roll_phase_rad", "steer_phase_rad"):
+        assert getattr(warm, key) == pytest.approx(getattr(cold, key), abs=1e-8)
+    assert _match(warm.floquet_multipliers, cold.floquet_multipliers) < 1e-6
+    assert np.max(np.abs(warm.nodes - cold.nodes)) <= 1e-8 * np.max(np.abs(cold.nodes))
+
+
 def test_expm_equals_scipy():
     """The scaling-and-squaring Taylor exponential against scipy's Pade one (both ~1e-15)."""
     rng = np.random.default_rng(3)
@@ -62,12 +72,7 @@ def test_chord_started_orbit_equals_newton_from_ps(model, method, speed_m_s, ome
     warm = s.solve(speed_m_s)
     assert cold.converged and warm.converged and warm.segments == cold.segments
     assert max(warm.periodicity_residual, cold.periodicity_residual) <= 1e-9
-    for key in ("roll_amplitude_rad", "steer_amplitude_rad", "hold_torque_mean_nm"):
-        assert getattr(warm, key) == pytest.approx(getattr(cold, key), rel=1e-8)
-    for key in ("roll_phase_rad", "steer_phase_rad"):
-        assert getattr(warm, key) == pytest.approx(getattr(cold, key), abs=1e-8)
-    assert _match(warm.floquet_multipliers, cold.floquet_multipliers) < 1e-6
-    assert np.max(np.abs(warm.nodes - cold.nodes)) <= 1e-8 * np.max(np.abs(cold.nodes))
+    _assert_same_orbit(warm, cold)
 
 
 def test_chord_start_saves_variational_evaluations():
@@ -96,12 +101,7 @@ def test_guided_orbit_is_the_same_orbit_whatever_the_neighbours(method, omega_ra
     assert all(o.converged for o in (cold, g36, g38, g40, g42, fine, coarse))
     for warm in (fine, coarse):
         assert warm.segments == cold.segments and warm.periodicity_residual <= 1e-9
-        for key in ("roll_amplitude_rad", "steer_amplitude_rad", "hold_torque_mean_nm"):
-            assert getattr(warm, key) == pytest.approx(getattr(cold, key), rel=1e-8)
-        for key in ("roll_phase_rad", "steer_phase_rad"):
-            assert getattr(warm, key) == pytest.approx(getattr(cold, key), abs=1e-8)
-        assert _match(warm.floquet_multipliers, cold.floquet_multipliers) < 1e-6
-        assert np.max(np.abs(warm.nodes - cold.nodes)) <= 1e-8 * np.max(np.abs(cold.nodes))
+        _assert_same_orbit(warm, cold)
     m = cold.segments
     own = cold.jacobian
 
