@@ -59,6 +59,15 @@ rule mathjax:
 BOOK_NOTEBOOKS = sorted(p.stem for p in Path("notebooks").glob("*.ipynb"))
 #: The executed notebooks, outputs kept; the rule book renders them as they are.
 EXECUTED_NOTEBOOK = f"{R}/book/executed/notebooks/{{stem}}.ipynb"
+# The code every notebook job runs besides its notebook's own closure: the rule script and the
+# drawing modules, which figures.draw(id) imports by the registry's name (no import statement
+# for code_inputs to follow), with their closures
+from pedalrepro.figures import registry as _registry
+
+BOOK_NOTEBOOK_CODE = code_inputs(
+    "scripts/book_notebook.py",
+    *sorted({f"../{src}" for g in _registry.groups() for src in _registry.code_sources(g)}),
+)
 # book/_config.yml's execute section: the notebooks' jobs use its timeout and stderr setting
 with open("book/_config.yml") as _fh:
     BOOK_EXECUTE = yaml.safe_load(_fh)["execute"]
@@ -71,8 +80,10 @@ rule book_notebook:
         "book/_config.yml",
         notebook="notebooks/{stem}.ipynb",
         # the notebook, every pedalrepro module its code cells import, and the data files those
-        # modules declare (pedalrepro.dependencies)
-        code=lambda wildcards: code_inputs(f"../notebooks/{wildcards.stem}.ipynb"),
+        # modules declare (pedalrepro.dependencies); the script and the drawing modules
+        code=lambda wildcards: sorted(
+            set(BOOK_NOTEBOOK_CODE) | set(code_inputs(f"../notebooks/{wildcards.stem}.ipynb"))
+        ),
     output:
         EXECUTED_NOTEBOOK,
     params:
@@ -98,20 +109,26 @@ rule book:
         BOOK_INPUTS,
         CONFIG_COPY,
         MATHJAX,
-        "book/_config.yml",
         "book/_toc.yml",
         # the MyST text notebooks among them are executed in this build
         sorted(str(p) for p in Path("book").glob("*.md")),
+        # book/ (its folder) is copied with the executed notebooks into the staging folder
+        config="book/_config.yml",
         notebooks=expand(EXECUTED_NOTEBOOK, stem=BOOK_NOTEBOOKS),
         # the API reference page (book/api.md) shows every module's docstrings (autodoc), and
         # the book/*.md pages import the package
-        code=sorted(str(p) for p in Path("src/pedalrepro").rglob("*.py")),
+        code=sorted(
+            set(code_inputs("scripts/book.py"))
+            | {str(p) for p in Path("src/pedalrepro").rglob("*.py")}
+        ),
     output:
         BOOK_INDEX,
     params:
         out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
-        src=f"{R}/book/src",  # the staging source folder (pedalrepro.book.stage_source)
-        results=R,
+        # the staging source folder (pedalrepro.book.stage_source): <R>/book/src
+        src=lambda wildcards, output: str(Path(output[0]).parents[2] / "src"),
+        figures=lambda wildcards: str(_paths.figures(R)),
+        tables=lambda wildcards: str(_paths.tables(R)),
     log:
         logfile("book"),
     benchmark:
