@@ -64,9 +64,8 @@ EXECUTED_NOTEBOOK = f"{R}/book/executed/notebooks/{{stem}}.ipynb"
 # for code_inputs to follow), with their closures
 from pedalrepro.figures import registry as _registry
 
-BOOK_NOTEBOOK_CODE = code_inputs(
-    "scripts/book_notebook.py",
-    *sorted({f"../{src}" for g in _registry.groups() for src in _registry.code_sources(g)}),
+BOOK_NOTEBOOK_CODE = set(code_inputs("scripts/book_notebook.py")) | set(
+    code_inputs(*sorted({f"../{s}" for g in _registry.groups() for s in _registry.code_sources(g)}))
 )
 # book/_config.yml's execute section: the notebooks' jobs use its timeout and stderr setting
 with open("book/_config.yml") as _fh:
@@ -82,7 +81,7 @@ rule book_notebook:
         # the notebook, every pedalrepro module its code cells import, and the data files those
         # modules declare (pedalrepro.dependencies); the script and the drawing modules
         code=lambda wildcards: sorted(
-            set(BOOK_NOTEBOOK_CODE) | set(code_inputs(f"../notebooks/{wildcards.stem}.ipynb"))
+            BOOK_NOTEBOOK_CODE | set(code_inputs(f"../notebooks/{wildcards.stem}.ipynb"))
         ),
     output:
         EXECUTED_NOTEBOOK,
