@@ -1,8 +1,13 @@
-# The jupyter-book: executes notebooks/ (which read results/ and call pedalrepro.figures) and
-# renders HTML, strictly (warnings are errors; a failing cell fails the build: jupyter-book exits 1
-# with --keep-going once all pages are tried, and the shell rule fails with it).
+# The jupyter-book, in two steps. Each notebook (notebooks/*.ipynb, which read results/ and call
+# pedalrepro.figures) is executed in its own job (rule book_notebook, kernel in notebooks/, as
+# jupyter-book executed it; a failing cell or a stderr output fails that job, the traceback in
+# its log), so that -j2 runs two at once. The rule book then renders HTML, strictly (warnings are
+# errors), from a staging copy of book/ holding the executed notebooks, which it does not execute
+# again; it executes only the MyST text notebooks book/*.md (pedalrepro.book.stage_source).
 
 import json
+
+import yaml
 
 BOOK_INDEX = f"{R}/book/_build/html/index.html"
 
@@ -50,23 +55,77 @@ rule mathjax:
         " && cp node_modules/mathjax/es5/tex-mml-chtml.js {output}) > {log} 2>&1"
 
 
+#: The book's notebooks (by stem), each executed by rule book_notebook.
+BOOK_NOTEBOOKS = sorted(p.stem for p in Path("notebooks").glob("*.ipynb"))
+#: The executed notebooks, outputs kept; the rule book renders them as they are.
+EXECUTED_NOTEBOOK = f"{R}/book/executed/notebooks/{{stem}}.ipynb"
+# The code every notebook job runs besides its notebook's own closure: the rule script and the
+# drawing modules, which figures.draw(id) imports by the registry's name (no import statement
+# for code_inputs to follow), with their closures
+from pedalrepro.figures import registry as _registry
+
+BOOK_NOTEBOOK_CODE = set(code_inputs("scripts/book_notebook.py")) | set(
+    code_inputs(*sorted({f"../{s}" for g in _registry.groups() for s in _registry.code_sources(g)}))
+)
+# book/_config.yml's execute section: the notebooks' jobs use its timeout and stderr setting
+with open("book/_config.yml") as _fh:
+    BOOK_EXECUTE = yaml.safe_load(_fh)["execute"]
+
+
+rule book_notebook:
+    input:
+        BOOK_INPUTS,
+        CONFIG_COPY,
+        "book/_config.yml",
+        notebook="notebooks/{stem}.ipynb",
+        # the notebook, every pedalrepro module its code cells import, and the data files those
+        # modules declare (pedalrepro.dependencies); the script and the drawing modules
+        code=lambda wildcards: sorted(
+            BOOK_NOTEBOOK_CODE | set(code_inputs(f"../notebooks/{wildcards.stem}.ipynb"))
+        ),
+    output:
+        EXECUTED_NOTEBOOK,
+    params:
+        cwd=str(ROOT_DIR / "notebooks"),  # where jupyter-book executed it: paths, hrefs unchanged
+        timeout=BOOK_EXECUTE["timeout"],
+        stderr_output=BOOK_EXECUTE["stderr_output"],
+    wildcard_constraints:
+        stem="|".join(BOOK_NOTEBOOKS),
+    # the longest notebooks first, so two jobs end together (job times: results/benchmarks)
+    priority: longest_first("book_notebook_{stem}")
+    log:
+        logfile("book_notebook_{stem}"),
+    benchmark:
+        bench("book_notebook_{stem}")
+    message:
+        "Executing notebooks/{wildcards.stem}.ipynb for the book -> {output} (log: {log})"
+    script:
+        "scripts/book_notebook.py"
+
+
 rule book:
     input:
         BOOK_INPUTS,
         CONFIG_COPY,
         MATHJAX,
-        "book/_config.yml",
         "book/_toc.yml",
+        # the MyST text notebooks among them are executed in this build
         sorted(str(p) for p in Path("book").glob("*.md")),
-        # the notebooks, every pedalrepro module their code cells import, and the data files
-        # those modules declare (pedalrepro.dependencies)
-        code_inputs(*sorted(f"../{p}" for p in Path("notebooks").glob("*.ipynb"))),
-        # the API reference page (book/api.md) shows every module's docstrings (autodoc)
-        sorted(str(p) for p in Path("src/pedalrepro").rglob("*.py")),
+        # book/ (its folder) is copied with the executed notebooks into the staging folder
+        config="book/_config.yml",
+        notebooks=expand(EXECUTED_NOTEBOOK, stem=BOOK_NOTEBOOKS),
+        # the API reference page (book/api.md) shows every module's docstrings (autodoc), and
+        # the book/*.md pages import the package
+        code=sorted(
+            set(code_inputs("scripts/book.py"))
+            | {str(p) for p in Path("src/pedalrepro").rglob("*.py")}
+        ),
     output:
         BOOK_INDEX,
     params:
         out=lambda wildcards, output: str(Path(output[0]).parents[2]),  # <R>/book
+        # the staging source folder (pedalrepro.book.stage_source): <R>/book/src
+        src=lambda wildcards, output: str(Path(output[0]).parents[2] / "src"),
         figures=lambda wildcards: str(_paths.figures(R)),
         tables=lambda wildcards: str(_paths.tables(R)),
     log:
@@ -77,12 +136,6 @@ rule book:
         "Building the jupyter-book (strict) into {params.out}/_build/html (log: {log})"
     # Every figure in the book links its full-size PNG and its PDF, served from
     # _build/html/figures/ (pedalrepro.figures.BOOK_FIGURES_HREF), every table its CSV from
-    # _build/html/tables/ (BOOK_TABLES_HREF); the page Downloads lists them all.
-    shell:
-        "jupyter-book build --all -W -n --keep-going book/ --path-output {params.out} > {log} 2>&1"
-        " || {{ tail -n 40 {log} >&2; exit 1; }}"
-        " && mkdir -p {params.out}/_build/html/figures {params.out}/_build/html/tables"
-        " && {{ test ! -d {params.figures}"
-        " || cp -r {params.figures}/. {params.out}/_build/html/figures/ ; }}"
-        " && {{ test ! -d {params.tables}"
-        " || cp -r {params.tables}/. {params.out}/_build/html/tables/ ; }}"
+    # _build/html/tables/ (BOOK_TABLES_HREF); the script copies results/figures and tables there.
+    script:
+        "scripts/book.py"

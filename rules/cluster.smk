@@ -12,7 +12,8 @@ CLUSTER_LOCAL_RULES = sorted(
     or r.name
     in {
         "all",
-        "book",  # jupyter-book executes the notebooks against results/ (source tree)
+        "book",  # jupyter-book renders the book (source tree)
+        "book_notebook",  # executes a notebook against results/ in notebooks/ (source tree)
         "mathjax",  # copies node_modules into book/ (source tree)
         "write_config",  # the config copy the notebooks read (rules/book.smk)
         "nonlinear_codegen",  # cat of the four variant stamps

@@ -247,13 +247,16 @@ def test_deviations_page_covers_every_erratum():
 
 
 def _mini_workflow(tmp_path: Path, cell_source: str) -> subprocess.CompletedProcess:
-    """The repository's book rule (rules/book.smk) on a temporary copy whose book holds only the
-    introduction and one notebook with ``cell_source``."""
+    """The repository's book rules (rules/book.smk: book_notebook, then book) on a temporary copy
+    whose book holds only the introduction and one notebook with ``cell_source``."""
     root = tmp_path / "repo"
     for rel in ("rules/common.smk", "rules/book.smk", "rules/scripts/write_config.py",
-                "package.json", "package-lock.json", "data/figure_ids.yaml"):
+                "rules/scripts/book_notebook.py", "rules/scripts/book.py",
+                "package.json", "package-lock.json"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(paths.ROOT / rel, root / rel)
+    # the data files the package declares (the notebook jobs' inputs include the drawing modules')
+    shutil.copytree(paths.DATA, root / "data")
     shutil.copytree(paths.CONFIG, root / "config")
     shutil.copytree(paths.ROOT / "src", root / "src",
                     ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
@@ -288,12 +291,52 @@ def test_a_failing_notebook_cell_fails_the_book_rule(tmp_path):
     good = _mini_workflow(tmp_path / "good", "x = 1 + 1\nx")
     assert good.returncode == 0, good.stdout + good.stderr
     assert (tmp_path / "good/repo/results/book/_build/html/index.html").is_file()
+    # the notebook was executed by its own job, and the book rendered it without executing it
+    executed = nbformat.read(tmp_path / "good/repo/results/book/executed/notebooks/probe.ipynb",
+                             as_version=4)
+    assert executed.cells[1].outputs[0]["data"]["text/plain"] == "2"
+    book_log = (tmp_path / "good/repo/results/logs/book.log").read_text()
+    assert "probe.ipynb: Excluded from execution by pattern" in book_log
+    page = (tmp_path / "good/repo/results/book/_build/html/notebooks/probe.html").read_text()
+    assert re.search(r'class="output text_plain[^"]*"><div class="highlight"><pre><span></span>2\n',
+                     page)
     bad = _mini_workflow(tmp_path / "bad", "raise RuntimeError('deliberately broken cell')")
     assert bad.returncode != 0
-    assert "Error in rule book" in bad.stdout + bad.stderr
-    # the failed build leaves no book behind, and its log names the cause
+    out = bad.stdout + bad.stderr
+    # the notebook's job fails, and its message names the notebook and the broken cell
+    assert "Error in rule book_notebook" in out
+    assert "notebooks/probe.ipynb failed" in out and "deliberately broken cell" in out
+    # the failed build leaves no book behind, and the job's log names the cause
     assert not (tmp_path / "bad/repo/results/book/_build/html/index.html").exists()
-    assert "deliberately broken cell" in (tmp_path / "bad/repo/results/logs/book.log").read_text()
+    assert not (tmp_path / "bad/repo/results/book/executed/notebooks/probe.ipynb").exists()
+    log = (tmp_path / "bad/repo/results/logs/book_notebook_probe.log").read_text()
+    assert "deliberately broken cell" in log and "probe.ipynb" in log and "Traceback" in log
+
+
+def test_a_cell_writing_to_stderr_fails_its_notebook(tmp_path):
+    """``execute.stderr_output: error`` (book/_config.yml): a cell writing to stderr fails the
+    notebook's execution, as it fails myst-nb's rendering; a cell tagged ``remove-stderr`` does
+    not."""
+    from pedalrepro import book
+
+    def notebook(cell):
+        nb = nbformat.v4.new_notebook(cells=[cell])
+        nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                     "language": "python"}
+        path = tmp_path / "probe.ipynb"
+        nbformat.write(nb, path)
+        return path
+
+    noisy = nbformat.v4.new_code_cell("import sys\nprint('noisy warning', file=sys.stderr)")
+    with pytest.raises(RuntimeError, match="stderr was found in the cell outputs of cell 1"):
+        book.execute_notebook(notebook(noisy), tmp_path / "out.ipynb", timeout=60)
+    assert not (tmp_path / "out.ipynb").exists()
+    noisy.metadata["tags"] = ["remove-stderr"]
+    book.execute_notebook(notebook(noisy), tmp_path / "out.ipynb", timeout=60)
+    assert (tmp_path / "out.ipynb").is_file()
+    with pytest.raises(RuntimeError, match="probe.ipynb: executing the notebook failed"):
+        book.execute_notebook(notebook(nbformat.v4.new_code_cell("1 / 0")),
+                              tmp_path / "out.ipynb", timeout=60)
 
 
 def _kernel_texts(source: str) -> list[str]:

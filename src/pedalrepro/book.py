@@ -28,7 +28,8 @@ __all__ = [
     "figure_anchor", "pages_showing", "figure_html", "file_figure_html", "UNITS", "header",
     "runs_as_columns", "table_html", "reader_table", "show_table", "show", "show_file", "Text",
     "fill", "note_html", "paragraph", "plain_numbers_in_notebooks", "setup", "reader_text",
-    "placeholder_problems",
+    "placeholder_problems", "EXECUTED_PATTERNS", "stderr_problems", "execute_notebook",
+    "stage_source",
 ]
 
 #: Where the book serves the figure files, relative to a chapter page (``notebooks/*.html``):
@@ -484,3 +485,177 @@ def placeholder_problems(page_html: str, name: str = "page") -> list[str]:
         ctx = reader_text(page_html[max(0, m.start() - 300):m.start()])[-60:]
         problems.append(f"{name}: empty or NaN glued value after '...{ctx}'")
     return problems
+
+
+# --------------------------------------------------------------------------------------------
+# Building the book (rules/book.smk): each notebook executed in its own job, then one Sphinx
+# build of a staging copy of book/ that executes only the MyST text notebooks.
+# --------------------------------------------------------------------------------------------
+
+#: What ``execute.exclude_patterns`` of the staged ``_config.yml`` holds (:func:`stage_source`):
+#: the notebooks, executed beforehand by :func:`execute_notebook`, are not executed again.
+EXECUTED_PATTERNS: tuple[str, ...] = ("notebooks/*",)
+
+
+def stderr_problems(nb, stderr_output: str = "error") -> list[str]:
+    """The cells of an executed notebook whose stderr output fails the strict build.
+
+    myst-nb checks stderr when it renders a page (``nb_output_stderr``, jupyter-book's
+    ``execute.stderr_output``): with ``"error"`` or ``"severe"`` each code cell with a stderr
+    stream output logs an error, which ``-W`` turns into a failed build. This is that check, run
+    as soon as the notebook is executed; the final build still makes it (the outputs are kept).
+
+    Parameters
+    ----------
+    nb : nbformat.NotebookNode
+        The executed notebook.
+    stderr_output : str
+        The book's setting (``execute.stderr_output`` of ``book/_config.yml``); a notebook's or
+        a cell's ``mystnb: {output_stderr: ...}`` metadata overrides it, a cell tagged
+        ``remove-stderr`` is never reported, as in myst-nb.
+
+    Returns
+    -------
+    list of str
+        One message per failing cell, ``"stderr was found in the cell outputs of cell <n>:
+        <text>"`` (cells counted from 1, as myst-nb does); empty when none fails.
+    """
+    document = nb.metadata.get("mystnb", {}).get("output_stderr", stderr_output)
+    problems = []
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type != "code" or "remove-stderr" in cell.metadata.get("tags", []):
+            continue
+        level = cell.metadata.get("mystnb", {}).get("output_stderr", document)
+        if level not in ("error", "severe"):
+            continue
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream" and out.get("name") == "stderr":
+                problems.append(f"stderr was found in the cell outputs of cell {index + 1}: "
+                                f"{out.get('text', '').strip()[:500]}")
+                break
+    return problems
+
+
+def execute_notebook(source: str | Path, output: str | Path, *, cwd: str | Path | None = None,
+                     timeout: int | None = 120, stderr_output: str = "error",
+                     kernel_name: str = "python3") -> float:
+    """Execute one book notebook as jupyter-book does (myst-nb's ``force`` mode) and write it.
+
+    The kernel runs in ``cwd`` (default: the notebook's folder, ``notebooks/``, where
+    jupyter-book ran it), every cell with ``timeout``, no error allowed; a notebook's
+    ``execution`` metadata (``timeout``, ``allow_errors``) overrides both, as in myst-nb. The
+    executed notebook keeps its outputs, so the book renders them without executing it again
+    (:data:`EXECUTED_PATTERNS`).
+
+    Parameters
+    ----------
+    source : str or pathlib.Path
+        The notebook (``notebooks/<stem>.ipynb``).
+    output : str or pathlib.Path
+        Where the executed notebook is written (its folder is created); nothing is written when
+        the execution fails.
+    cwd : str or pathlib.Path, optional
+        The kernel's working directory.
+    timeout : int or None
+        Seconds a cell may run (``execute.timeout`` of ``book/_config.yml``).
+    stderr_output : str
+        ``execute.stderr_output`` of the book: ``"error"`` or ``"severe"`` fail on a cell
+        writing to stderr (:func:`stderr_problems`).
+    kernel_name : str
+        The Jupyter kernel.
+
+    Returns
+    -------
+    float
+        The execution's wall time in seconds.
+
+    Raises
+    ------
+    RuntimeError
+        A cell failed or timed out (the message names the notebook and holds the cell's source
+        and traceback), or a cell wrote to stderr.
+    """
+    import time
+
+    import nbformat
+    from nbclient import NotebookClient
+    from nbclient.exceptions import CellExecutionError, CellTimeoutError
+
+    source, output = Path(source), Path(output)
+    nb = nbformat.read(source, as_version=4)
+    allow_errors = False
+    meta = nb.metadata.get("execution", {})
+    timeout = meta.get("timeout", timeout)
+    allow_errors = meta.get("allow_errors", allow_errors)
+    folder = Path(cwd) if cwd is not None else source.resolve().parent
+    client = NotebookClient(nb, timeout=timeout, allow_errors=allow_errors,
+                            kernel_name=kernel_name, record_timing=False,
+                            resources={"metadata": {"path": str(folder)}})
+    start = time.perf_counter()
+    try:
+        client.execute()
+    except (CellExecutionError, CellTimeoutError) as err:
+        raise RuntimeError(f"{source}: executing the notebook failed\n{err}") from err
+    seconds = time.perf_counter() - start
+    problems = stderr_problems(nb, stderr_output)
+    if problems:
+        raise RuntimeError(f"{source}: " + "\n".join(problems)
+                           + f"\n(execute.stderr_output is {stderr_output!r})")
+    output.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, output)
+    return seconds
+
+
+def stage_source(book_dir: str | Path, executed: list[str | Path], dest: str | Path) -> Path:
+    """The source folder the final book build reads: ``book/`` with the executed notebooks.
+
+    ``dest`` is emptied and filled with copies of ``book_dir``'s files (the pages, ``_toc.yml``)
+    and folders, a link to each ``html_static_path`` folder (``_mathjax``), the ``executed``
+    notebooks in ``notebooks/`` (instead of the link to the repository's ``notebooks/``), and
+    ``_config.yml`` with :data:`EXECUTED_PATTERNS` added to ``execute.exclude_patterns``: the
+    build renders the executed notebooks as they are and still executes the MyST text notebooks
+    (``book/*.md``). Page names, hence the book's URLs, are those of ``book_dir``.
+
+    Parameters
+    ----------
+    book_dir : str or pathlib.Path
+        The book's source (``book/``).
+    executed : list of str or pathlib.Path
+        The executed notebooks (:func:`execute_notebook`), named as in ``notebooks/``.
+    dest : str or pathlib.Path
+        The staging folder (``<results>/book/src``).
+
+    Returns
+    -------
+    pathlib.Path
+        ``dest``.
+    """
+    import shutil
+
+    import yaml
+
+    book_dir, dest = Path(book_dir).resolve(), Path(dest)
+    config = yaml.safe_load((book_dir / "_config.yml").read_text())
+    static = set(config.get("sphinx", {}).get("config", {}).get("html_static_path", []))
+    if dest.exists():
+        shutil.rmtree(dest)
+    dest.mkdir(parents=True)
+    for entry in sorted(book_dir.iterdir()):
+        if entry.name in ("notebooks", "_build", "_config.yml"):
+            continue
+        if entry.name in static:
+            (dest / entry.name).symlink_to(entry)
+        elif entry.is_dir():
+            shutil.copytree(entry, dest / entry.name)
+        else:
+            shutil.copy2(entry, dest / entry.name)
+    (dest / "notebooks").mkdir()
+    for nb in executed:
+        shutil.copy2(nb, dest / "notebooks" / Path(nb).name)
+    execute = config.setdefault("execute", {})
+    patterns = list(execute.get("exclude_patterns", []))
+    execute["exclude_patterns"] = patterns + [p for p in EXECUTED_PATTERNS if p not in patterns]
+    (dest / "_config.yml").write_text(
+        f"# {book_dir / '_config.yml'} with the executed notebooks excluded from execution\n"
+        "# (pedalrepro.book.stage_source)\n" + yaml.safe_dump(config, sort_keys=False))
+    return dest

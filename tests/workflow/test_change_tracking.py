@@ -476,12 +476,13 @@ def _rules(script_names):
       "nonlinear_time_chunk", "nonlinear_time", "periodic_map", "periodic_map_subgrid",
       "periodic_branch", "periodic_tables"}),
     # the figure style: every figure rule, the closed-loop and own-bicycle rules (they draw
-    # their figures too) and the book (notebooks draw figures)
+    # their figures too) and the book's notebook jobs (notebooks draw figures), then the book
     ("src/pedalrepro/pedalrepro.mplstyle",
      {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
       "figures_linear_spectra", "figures_nonlinear", "figures_validation", "figures_periodic",
-      "closed_loop_figures", "own_bicycle_resonance", "book"}),
-    ("notebooks/02_pedalling_disturbance.ipynb", {"book"}),
+      "closed_loop_figures", "own_bicycle_resonance", "book_notebook", "book"}),
+    # its own job (rule book_notebook), then the book as its dependent
+    ("notebooks/02_pedalling_disturbance.ipynb", {"book_notebook", "book"}),
     # the run list: the mocap rules, Table 4.1's model column, the figure-data rule of chapter 3
     # (pedalrepro.figdata imports pedalrepro.validation for its Figs 4.2-4.10 part) and the
     # spectra rule (pedalrepro.mocap.fetch imports the run list's reader)
@@ -506,14 +507,18 @@ NAMED_INPUT = {"data/published/meijaard2007.yaml": {"linear_report", "nonlinear_
                                  "data/parameters/stratos.yaml",
                                  "data/published/meijaard2007.yaml"])
 def test_touched_module_or_parameter_file_reruns_its_import_closure(baseline, tmp_path, rel):
-    """The rules planned because of the touched file are those whose script (or, for the book,
-    notebook) reaches it through imports and declarations; the rest are dependents."""
+    """The rules planned because of the touched file are those whose script (for the book's
+    notebook jobs: also the notebooks and the drawing modules) reaches it through imports and
+    declarations; the rest are dependents."""
     results, cfg = baseline
     jobs = _touched(results, cfg, tmp_path, rel)
     direct = _direct(jobs, "updated input files")
     expected = _rules(_users(rel)) | NAMED_INPUT.get(rel, set())
-    if rel in dependencies.code_inputs(*NOTEBOOKS, root=paths.ROOT) or (
-            rel.startswith("src/pedalrepro/") and rel.endswith(".py")):  # the API page
+    drawing = [paths.ROOT / src for g in FIGURE_REGISTRY.groups()
+               for src in FIGURE_REGISTRY.code_sources(g)]
+    if rel in dependencies.code_inputs(*NOTEBOOKS, *drawing, root=paths.ROOT):
+        expected |= {"book_notebook", "book"}  # the notebooks' jobs, the book as a dependent
+    if rel.startswith("src/pedalrepro/") and rel.endswith(".py"):  # the API page
         expected.add("book")
     print(f"touch {rel}: planned {sorted(jobs)}; updated input: {sorted(direct)}")
     _assert_users_rerun(jobs, direct, expected)
