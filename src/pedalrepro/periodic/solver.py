@@ -48,8 +48,8 @@ from ..params import LinearModel
 
 __all__ = [
     "DATA_FILES", "SPEED_RANGE_M_S", "CADENCE_RANGE_RPM", "METHODS", "LATERAL",
-    "LINEAR_TORQUE_SCALE", "ConvergenceError", "PERIODIC_LIBRARY_C", "own_linearisation", "Orbit",
-    "OrbitSolver", "orbit", "small_expm",
+    "LINEAR_TORQUE_SCALE", "CHORD_PREDICT", "ConvergenceError", "PERIODIC_LIBRARY_C",
+    "own_linearisation", "Orbit", "OrbitSolver", "orbit", "small_expm",
 ]
 
 #: The hand-written sources of the periodic-orbit library besides those of the model's
