@@ -583,10 +583,9 @@ def execute_notebook(source: str | Path, output: str | Path, *, cwd: str | Path 
 
     source, output = Path(source), Path(output)
     nb = nbformat.read(source, as_version=4)
-    allow_errors = False
     meta = nb.metadata.get("execution", {})
     timeout = meta.get("timeout", timeout)
-    allow_errors = meta.get("allow_errors", allow_errors)
+    allow_errors = meta.get("allow_errors", False)
     folder = Path(cwd) if cwd is not None else source.resolve().parent
     client = NotebookClient(nb, timeout=timeout, allow_errors=allow_errors,
                             kernel_name=kernel_name, record_timing=False,

@@ -39,6 +39,7 @@ from .plant import (
     Geometry,
     Plant,
     closed_matrix,
+    control_law,
     neuromuscular_filter,
 )
 
@@ -218,11 +219,13 @@ def _inner_eigenvalues(p: Plant, k: float) -> np.ndarray:
 
 
 def _inner_eigenvalues_at(p: Plant, gains: np.ndarray) -> np.ndarray:
-    """:func:`_inner_eigenvalues` at every gain of ``gains``, (n, 8), in one batched solve: the
-    closed matrices are formed with the same operations as :func:`closed_matrix` (so equal to
-    the bit) and their eigenvalues by one stacked ``eigvals`` call."""
+    """:func:`_inner_eigenvalues` at every gain of ``gains``, (n, 8), in one batched solve: with
+    the inner loop alone closed the feedback row of :func:`control_law` is the gain times its
+    row at unit gain, so the closed matrices are :func:`closed_matrix`'s ``A + B_u k`` stacked
+    (equal to the bit: ``1 x`` is exact) and their eigenvalues one stacked ``eigvals`` call."""
     dyn = list(DYNAMIC)
-    k = np.asarray(gains, float)[:, None] * (np.zeros(p.A.shape[0]) - p.C[0])[None, :]
+    unit, _ = control_law(p, np.array([1.0, 0.0, 0.0, 0.0, 0.0]), 1)
+    k = np.asarray(gains, float)[:, None] * unit[None, :]
     mats = p.A[None, :, :] + p.B_u[None, :, None] * k[:, None, :]
     return np.linalg.eigvals(mats[:, dyn][:, :, dyn])
 
