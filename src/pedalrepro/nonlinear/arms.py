@@ -49,8 +49,6 @@ __all__ = [
     "fixed_parts", "symbol_values", "nominal_posture",
 ]
 
-#: Yeadon -> bicycle (benchmark) axes: BicycleParameters ``rider.yeadon_vec_to_bicycle_vec``.
-_YEADON_TO_BIKE = np.array([[0.0, -1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
 
 
 @dataclass(frozen=True)
@@ -73,28 +71,22 @@ class YeadonArms:
 
 @cache
 def yeadon_arms(bicycle: str = "Browser") -> YeadonArms:
-    """Arm geometry and inertia of rider Jason on ``bicycle`` from BicycleParameters/Yeadon."""
-    from bicycleparameters.rider import yeadon_vec_to_bicycle_vec
+    """Arm geometry and inertia of rider Jason on ``bicycle`` from BicycleParameters/Yeadon
+    (the points and parts of :func:`.bicycle_data.load`, in the benchmark frame)."""
+    arms = bicycle_data.load(bicycle, rider=True).arms
+    pts = {k: np.asarray(v, float) for k, v in arms["points"].items()}
 
-    bike = bicycle_data.load(bicycle, rider=True).bicycle
-    human = bike.human
-    measured, benchmark = bike.parameters["Measured"], bike.parameters["Benchmark"]
-
-    def point(v) -> np.ndarray:
-        return yeadon_vec_to_bicycle_vec(np.asarray(v, float).reshape(3, 1), measured,
-                                         benchmark)[:, 0].astype(float)
-
-    def part(obj) -> RigidPart:
-        inertia = _YEADON_TO_BIKE @ np.asarray(obj.inertia, float) @ _YEADON_TO_BIKE.T
-        return RigidPart(float(obj.mass), point(obj.center_of_mass), inertia)
+    def part(name: str) -> RigidPart:
+        p = arms["parts"][name]
+        return RigidPart(float(p["mass"]), np.asarray(p["com"], float),
+                         np.asarray(p["inertia"], float))
 
     # B = right arm (bicycle y > 0); yeadon solid order: b2, b3 forearm; b4, b5, b6 hand
     # (wrist -> base of thumb -> knuckles -> finger tips); b4's pos is the base of the thumb.
-    forearm = combine(part(s) for s in human.B2.solids[:2])
-    hand = combine(part(s) for s in human.B2.solids[2:])
-    return YeadonArms(point(human.B1.pos), point(human.B1.end_pos),
-                      point(human.B2.solids[2].pos), part(human.B1), forearm, hand,
-                      tuple(part(s) for s in (human.A1, human.A2, human.B1, human.B2)))
+    forearm = combine(part(s) for s in ("b2", "b3"))
+    hand = combine(part(s) for s in ("b4", "b5", "b6"))
+    return YeadonArms(pts["shoulder"], pts["elbow"], pts["grip"], part("B1"), forearm, hand,
+                      tuple(part(s) for s in ("A1", "A2", "B1", "B2")))
 
 
 def rod_particles(part: RigidPart, start: np.ndarray, end: np.ndarray) -> tuple[float, float, float,

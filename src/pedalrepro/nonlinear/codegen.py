@@ -18,18 +18,17 @@ import hashlib
 import importlib.metadata
 import math
 import os
+import time
 from functools import cache
 from pathlib import Path
 from types import SimpleNamespace
-
-import sympy as sm
 
 from ..integrator.build import cache_root
 from . import symbolic
 
 __all__ = [
     "CODEGEN_VERSION", "cache_dir", "cache_key", "generated_source", "generated_c", "load",
-    "c_source",
+    "c_source", "python_source",
 ]
 
 #: Generated-code format version (bump when the generator changes).
@@ -61,8 +60,9 @@ def cache_key(options: symbolic.ModelOptions) -> str:
     return f"{options.key()}_{h.hexdigest()[:16]}"
 
 
-def _source(sym: symbolic.SymbolicModel) -> str:
+def python_source(sym: symbolic.SymbolicModel) -> str:
     """Python source of ``rhs_parts(q, u, p, s)`` and ``energy(q, u, p, s)``."""
+    import sympy as sm
     from sympy.printing.pycode import PythonCodePrinter
 
     class Printer(PythonCodePrinter):
@@ -123,9 +123,14 @@ def _derive_cached(options: symbolic.ModelOptions) -> symbolic.SymbolicModel:
     return symbolic.derive(options)
 
 
-def generated_source(options: symbolic.ModelOptions) -> Path:
-    """Path of the generated Python module, deriving and generating it only when not cached."""
-    return _generate(options)[0]
+def generated_source(options: symbolic.ModelOptions,
+                     timings: dict[str, float] | None = None) -> Path:
+    """Path of the generated Python module, deriving and generating it only when not cached.
+
+    ``timings``: when given and the code is not cached, the seconds of the derivation's stages
+    (:func:`pedalrepro.nonlinear.symbolic.derive`) and of ``c_code`` and ``python_code``
+    (``sympy.cse`` and printing) are added to it."""
+    return _generate(options, timings)[0]
 
 
 def generated_c(options: symbolic.ModelOptions) -> Path:
@@ -139,18 +144,21 @@ def _write(path: Path, text: str) -> None:
     tmp.replace(path)  # atomic: parallel jobs never read a half-written file
 
 
-def _generate(options: symbolic.ModelOptions) -> tuple[Path, Path]:
+def _generate(options: symbolic.ModelOptions,
+              timings: dict[str, float] | None = None) -> tuple[Path, Path]:
     folder = cache_dir()
     key = cache_key(options)
     py, c = folder / f"{key}.py", folder / f"{key}.gen.c"
     if py.exists() and c.exists():
         return py, c
     folder.mkdir(parents=True, exist_ok=True)
-    sym = _derive_cached(options)
-    if not c.exists():
-        _write(c, c_source(sym))
-    if not py.exists():
-        _write(py, _source(sym))
+    sym = _derive_cached(options) if timings is None else symbolic.derive(options, timings)
+    for path, source, stage in ((c, c_source, "c_code"), (py, python_source, "python_code")):
+        if not path.exists():
+            start = time.perf_counter()
+            _write(path, source(sym))
+            if timings is not None:
+                timings[stage] = timings.get(stage, 0.0) + time.perf_counter() - start
     return py, c
 
 
@@ -183,6 +191,7 @@ def load(options: symbolic.ModelOptions, complex_step: bool = False) -> SimpleNa
 
 def c_source(sym: symbolic.SymbolicModel) -> str:
     """C99 source of ``constraint_matrix(q, p, A)`` and ``dynamics(q, u, p, s, M, F, b)``."""
+    import sympy as sm
     from sympy.printing.c import C99CodePrinter
 
     printer = C99CodePrinter()

@@ -22,6 +22,7 @@ scripts/bench_nonlinear.py).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -41,31 +42,54 @@ ZERO_SPEC: Callable[[float], np.ndarray] | None = None
 def moore_parameters(bench: dict[str, float]) -> dict[str, float]:
     """SymBRiM parameter values from benchmark parameters (Meijaard et al. 2007, Table 1).
 
-    Uses ``dtk.bicycle.benchmark_to_moore`` (Moore 2012's conversion, as SymBRiM's own
-    ``get_param_values`` does).
+    Moore's (2012) conversion, as SymBRiM's own ``get_param_values`` does through
+    ``dtk.bicycle.benchmark_to_moore``: the rear-frame offset ``d1``, front offset ``d3`` and
+    steer-axis length ``d2`` from wheelbase, trail, steer-axis tilt and wheel radii; the frame and
+    fork mass centres along and normal to the steer axis (``l1, l2`` from the rear wheel centre,
+    ``l3, l4`` from the front wheel centre); the frame and fork inertia rotated through the tilt
+    ``R(lam) I R(lam)^T``. Written here, in dtk's order of operations, instead of imported: dtk's
+    bicycle module imports ``matplotlib.pyplot`` and ``scipy.optimize`` (0.8 s of every job that
+    builds a non-linear model); tests/nonlinear/test_nonlinear.py checks it equals dtk's to the
+    bit.
     """
-    from dtk.bicycle import benchmark_to_moore
-
     need = {"w", "c", "lam", "g", "rR", "mR", "IRxx", "IRyy", "xB", "zB", "mB", "IBxx", "IByy",
             "IBzz", "IBxz", "xH", "zH", "mH", "IHxx", "IHyy", "IHzz", "IHxz", "rF", "mF", "IFxx",
             "IFyy"}
     missing = sorted(need - set(bench))
     if missing:
         raise KeyError(f"benchmark parameters missing: {missing}")
-    mp = benchmark_to_moore(dict(bench))
+    b = bench
+    lam = b["lam"]
+    sin_l, cos_l, tan_l = math.sin(lam), math.cos(lam), math.tan(lam)
+    d1 = cos_l * (b["c"] + b["w"] - b["rR"] * tan_l)
+    d3 = -cos_l * (b["c"] - b["rF"] * tan_l)
+    d2 = (b["rR"] + d1 * sin_l - b["rF"] + d3 * sin_l) / cos_l
+    l1 = b["xB"] * cos_l - b["zB"] * sin_l - b["rR"] * sin_l
+    l2 = b["xB"] * sin_l + b["zB"] * cos_l + b["rR"] * cos_l
+    l4 = (b["zH"] + b["rF"]) * cos_l + (b["xH"] - b["w"]) * sin_l
+    l3 = (b["xH"] - b["w"] - l4 * sin_l) / cos_l
+    sa, ca = np.sin(lam), np.cos(lam)
+    rot = np.array([[ca, 0.0, -sa], [0.0, 1.0, 0.0], [sa, 0.0, ca]])
+
+    def tilted(body: str) -> np.ndarray:
+        inertia = np.array([[b[f"I{body}xx"], 0.0, b[f"I{body}xz"]], [0.0, b[f"I{body}yy"], 0.0],
+                            [b[f"I{body}xz"], 0.0, b[f"I{body}zz"]]])
+        return rot @ inertia @ rot.T
+
+    ic, ie = tilted("B"), tilted("H")
     return {
-        "front_frame_body_mass": mp["me"], "front_frame_d2": mp["d2"],
-        "front_frame_d3": mp["d3"], "front_frame_ixx": mp["ie11"],
-        "front_frame_iyy": mp["ie22"], "front_frame_izz": mp["ie33"],
-        "front_frame_izx": mp["ie31"], "front_frame_l3": mp["l3"], "front_frame_l4": mp["l4"],
-        "front_wheel_ixx": bench["IFxx"], "front_wheel_iyy": bench["IFyy"],
-        "front_wheel_mass": bench["mF"], "front_wheel_r": bench["rF"], "g": bench["g"],
-        "rear_frame_body_mass": mp["mc"], "rear_frame_d1": mp["d1"],
-        "rear_frame_ixx": mp["ic11"], "rear_frame_iyy": mp["ic22"],
-        "rear_frame_izz": mp["ic33"], "rear_frame_izx": mp["ic31"],
-        "rear_frame_l1": mp["l1"], "rear_frame_l2": mp["l2"],
-        "rear_wheel_ixx": bench["IRxx"], "rear_wheel_iyy": bench["IRyy"],
-        "rear_wheel_mass": bench["mR"], "rear_wheel_r": bench["rR"],
+        "front_frame_body_mass": b["mH"], "front_frame_d2": d2,
+        "front_frame_d3": d3, "front_frame_ixx": float(ie[0, 0]),
+        "front_frame_iyy": float(ie[1, 1]), "front_frame_izz": float(ie[2, 2]),
+        "front_frame_izx": float(ie[2, 0]), "front_frame_l3": l3, "front_frame_l4": l4,
+        "front_wheel_ixx": b["IFxx"], "front_wheel_iyy": b["IFyy"],
+        "front_wheel_mass": b["mF"], "front_wheel_r": b["rF"], "g": b["g"],
+        "rear_frame_body_mass": b["mB"], "rear_frame_d1": d1,
+        "rear_frame_ixx": float(ic[0, 0]), "rear_frame_iyy": float(ic[1, 1]),
+        "rear_frame_izz": float(ic[2, 2]), "rear_frame_izx": float(ic[2, 0]),
+        "rear_frame_l1": l1, "rear_frame_l2": l2,
+        "rear_wheel_ixx": b["IRxx"], "rear_wheel_iyy": b["IRyy"],
+        "rear_wheel_mass": b["mR"], "rear_wheel_r": b["rR"],
     }
 
 

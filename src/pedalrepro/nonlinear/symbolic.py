@@ -30,19 +30,14 @@ benchmark roll and steer angles of Meijaard et al. (2007).
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import sympy as sm
-from sympy.core.function import AppliedUndef
-from sympy.physics.mechanics import (
-    KanesMethod,
-    Particle,
-    Point,
-    ReferenceFrame,
-    RigidBody,
-    dynamicsymbols,
-    inertia,
-)
+if TYPE_CHECKING:
+    import sympy as sm
+# sympy and sympy.physics.mechanics are imported where a model is derived (0.6 s): the jobs
+# that load the cached model only need this module's constants and ModelOptions.
 
 __all__ = [
     "LEG_BODIES", "IGNORABLE_Q", "STEER_DERIVATIVES", "ROLL", "PITCH", "STEER", "REAR_WHEEL",
@@ -121,7 +116,7 @@ class SymbolicModel:
     param_names: list[str]
 
 
-def arm_loop_elbow(s_pt, h_pt, normal, a, b, sign, sqrt=sm.sqrt):
+def arm_loop_elbow(s_pt, h_pt, normal, a, b, sign, sqrt=None):
     """Elbow of one arm loop in closed form (3-tuples of rear-frame coordinates).
 
     The shoulder ``S`` is a flexion joint about the axis ``normal`` (unit, fixed in the trunk)
@@ -134,8 +129,13 @@ def arm_loop_elbow(s_pt, h_pt, normal, a, b, sign, sqrt=sm.sqrt):
     ``|E - H'| = b'`` in the plane, ``sign`` (+1 or -1) choosing the branch: ``E = S + t e1 +
     sign h e2`` with ``e1`` along ``H' - S`` and ``e2 = n x e1``.
 
-    Works on sympy expressions and on numbers (``sqrt`` of the matching library).
+    Works on sympy expressions and on numbers (``sqrt`` of the matching library; default
+    ``sympy.sqrt``).
     """
+    if sqrt is None:
+        import sympy as sm
+
+        sqrt = sm.sqrt
     r = [hc - sc for hc, sc in zip(h_pt, s_pt, strict=True)]
     n = normal
     dy = sum(ni * ri for ni, ri in zip(n, r, strict=True))
@@ -164,6 +164,8 @@ def _function_of_steer(name: str) -> list[type]:
     the 499 s that the two arm variants cost to derive and generate; with the placeholders they
     take 60 s, and the generated right-hand sides equal the old ones to 1e-14 relative.
     """
+    import sympy as sm
+
     classes = [type(f"{name}_d{k}", (sm.Function,), {"nargs": 1})
                for k in range(STEER_DERIVATIVES)]
     for k, cls in enumerate(classes):
@@ -202,6 +204,10 @@ def _add_arms(bicycle, N, params: dict, steer) -> tuple[list, list]:
         ``(classes, x)`` per coordinate: the placeholder functions ``[f, f', f'']`` and the
         explicit coordinate ``x`` as an expression of ``steer``.
     """
+    import sympy as sm
+    from sympy.core.function import AppliedUndef
+    from sympy.physics.mechanics import Particle, Point
+
     rear = bicycle.rear_frame
     front = bicycle.front_frame
     C = rear.body.frame
@@ -242,20 +248,50 @@ def _add_arms(bicycle, N, params: dict, steer) -> tuple[list, list]:
     return particles, coordinates
 
 
-def derive(options: ModelOptions) -> SymbolicModel:
+class _StageClock:
+    """Adds the seconds since the previous mark to ``timings[name]`` (nothing when None)."""
+
+    def __init__(self, timings: dict[str, float] | None) -> None:
+        self.timings, self.last = timings, time.perf_counter()
+
+    def stage(self, name: str) -> None:
+        if self.timings is not None:
+            now = time.perf_counter()
+            self.timings[name] = self.timings.get(name, 0.0) + now - self.last
+            self.last = now
+
+
+def derive(options: ModelOptions, timings: dict[str, float] | None = None) -> SymbolicModel:
     """Derive the model symbolically with SymBRiM and Kane's method (a few seconds).
 
     Parameters
     ----------
     options
         Which bodies to include.
+    timings
+        When given, the seconds of each stage are added to it (``scripts/bench_derivation.py``):
+        ``symbrim_assembly`` (SymBRiM's bicycle, the leg bodies and the arm loops),
+        ``kane_equations`` (mass matrix and forcing), ``constraints_energy`` (velocity
+        constraints, their derivative, the energy) and ``substitution`` (plain symbols, explicit
+        arm coordinates).
 
     Returns
     -------
     SymbolicModel
     """
     import symbrim as sb
+    import sympy as sm
+    from sympy.core.function import AppliedUndef
+    from sympy.physics.mechanics import (
+        KanesMethod,
+        Point,
+        ReferenceFrame,
+        RigidBody,
+        dynamicsymbols,
+        inertia,
+    )
 
+    clock = _StageClock(timings)
     t = dynamicsymbols._t
     bicycle = sb.WhippleBicycle("bicycle")
     bicycle.ground = sb.FlatGround("ground")
@@ -308,8 +344,10 @@ def derive(options: ModelOptions) -> SymbolicModel:
     qd_u = dict(zip([qi.diff(t) for qi in q], u, strict=True))
     if set(sm.Matrix(system.kdes).xreplace(qd_u)) - {0}:
         raise RuntimeError("unexpected kinematic differential equations in SymBRiM's model")
+    clock.stage("symbrim_assembly")
     km = KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kdes, bodies=bodies, forcelist=loads)
     km.kanes_equations(bodies, loads)
+    clock.stage("kane_equations")
     qd_to_u = km.kindiffdict()
     M = km.mass_matrix
     F = km.forcing
@@ -331,6 +369,7 @@ def derive(options: ModelOptions) -> SymbolicModel:
     pe = sum(body.mass * g * body.masscenter.pos_from(bicycle.ground.origin).dot(normal)
              for body in bodies)
     energy = (ke + pe).xreplace(qd_to_u)
+    clock.stage("constraints_energy")
 
     # Replace specified functions and their derivatives by plain symbols for code generation.
     spec_syms: list = []
@@ -375,5 +414,6 @@ def derive(options: ModelOptions) -> SymbolicModel:
     if explicit:
         M, F, energy = M.xreplace(explicit), F.xreplace(explicit), energy.xreplace(explicit)
     params = sorted(free - set(q_s) - set(u_s) - set(spec_syms) - {t}, key=lambda s: s.name)
+    clock.stage("substitution")
     return SymbolicModel(list(q_s), list(u_s), params, spec_syms, M, F, A, b, energy,
                          [s.name for s in params])
