@@ -31,16 +31,13 @@ static const int U_DEP[5] = {0, 1, 2, 4, 7};
    (Ad, piv) and C = -A_dep^-1 A_ind (5 x 3) returned. */
 static int model_speeds(const double *q, const double *p, double *u, double *A, double *Ad,
                         int *piv, double *C) {
-    double col[5];
     constraint_matrix(q, p, A);
     for (int i = 0; i < 5; i++)
         for (int j = 0; j < 5; j++) Ad[i * 5 + j] = A[i * 8 + U_DEP[j]];
     if (lu_factor(5, Ad, piv)) return 1;
-    for (int k = 0; k < 3; k++) {                       /* C = -A_dep^-1 A_ind */
-        for (int i = 0; i < 5; i++) col[i] = -A[i * 8 + U_IND[k]];
-        lu_solve(5, Ad, piv, col);
-        for (int i = 0; i < 5; i++) C[i * 3 + k] = col[i];
-    }
+    for (int i = 0; i < 5; i++)                         /* C = -A_dep^-1 A_ind */
+        for (int k = 0; k < 3; k++) C[i * 3 + k] = -A[i * 8 + U_IND[k]];
+    lu_solve_columns(5, 3, Ad, piv, C);
     for (int j = 0; j < 5; j++) {
         double acc = 0.0;
         for (int k = 0; k < 3; k++) acc += C[j * 3 + k] * u[U_IND[k]];

@@ -324,6 +324,11 @@ class OrbitSolver:
                              "half-period shooting does not apply")
         self.half_period = symmetric if half_period is None else bool(half_period)
         self._h = ctypes.c_double(0.0)
+        self._memo_jac: dict = {}
+        self._memo_ps: dict = {}
+        #: Observed contraction of the first chord step of the last orbit solved with two
+        #: guides, per segment count (:meth:`_chord_start`).
+        self._first_rate: dict[int, float] = {}
         self._linear_proxy: OrbitSolver | None = None
         if method == "NT" and abs(self.torque_scale) < LINEAR_TORQUE_SCALE:
             self._linear_proxy = OrbitSolver(
@@ -460,10 +465,16 @@ class OrbitSolver:
         model's own linearisation: every segment's ``G`` is ``expm(A(v) T_s / m)`` (the last one
         with the half-period sign). The orbit's Jacobian differs from it by the non-linear terms
         (relative O(amplitude^2) for NT; for NP also the legs' periodic inertia), so chord steps
-        with it contract the residual by about that factor per step (:meth:`solve`)."""
-        g = small_expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
-        sign = -1.0 if self.half_period else 1.0
-        return _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
+        with it contract the residual by about that factor per step (:meth:`solve`). Kept for
+        the last few speeds (a map's orbit asks for its own and its two guides'), read-only."""
+        key = (float(speed_m_s), int(m))
+        if key not in self._memo_jac:
+            g = small_expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
+            sign = -1.0 if self.half_period else 1.0
+            jac = _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
+            jac.setflags(write=False)
+            _remember(self._memo_jac, key, jac)
+        return self._memo_jac[key]
 
     def chord_jacobian(self, speed_m_s: float, m: int, guide: Orbit | None = None,
                        second: Orbit | None = None) -> np.ndarray:
@@ -491,16 +502,24 @@ class OrbitSolver:
         converged ``guide`` orbit at another speed, the guide's departure from its own PS
         (the non-linear part of the orbit), extrapolated linearly in speed with a ``second``
         guide (:meth:`chord_jacobian` does the same with the Jacobians)."""
-        times = self.node_times(m)[:-1]
-        nodes = self.ps_state(speed_m_s, times)
+        nodes = self._ps_nodes(speed_m_s, m)
         if not self._guides(guide, m):
-            return nodes
-        dep = guide.nodes - self.ps_state(guide.speed_m_s, times)
+            return nodes.copy()
+        dep = guide.nodes - self._ps_nodes(guide.speed_m_s, m)
         if self._guides(second, m) and second.speed_m_s != guide.speed_m_s:
-            dep2 = second.nodes - self.ps_state(second.speed_m_s, times)
+            dep2 = second.nodes - self._ps_nodes(second.speed_m_s, m)
             dep = dep + (dep - dep2) * ((speed_m_s - guide.speed_m_s)
                                         / (guide.speed_m_s - second.speed_m_s))
         return nodes + dep
+
+    def _ps_nodes(self, speed_m_s: float, m: int) -> np.ndarray:
+        """PS at the ``m`` node times (:meth:`ps_state`), kept for the last few speeds."""
+        key = (float(speed_m_s), int(m))
+        if key not in self._memo_ps:
+            nodes = self.ps_state(speed_m_s, self.node_times(m)[:-1])
+            nodes.setflags(write=False)
+            _remember(self._memo_ps, key, nodes)
+        return self._memo_ps[key]
 
     def _guides(self, guide: Orbit | None, m: int) -> bool:
         """Whether ``guide`` is a converged orbit of this problem (model, method, cadence,
@@ -513,39 +532,52 @@ class OrbitSolver:
 
     def _chord_start(self, nodes: np.ndarray, atol: np.ndarray, goal: float,
                      max_steps: int = 6, guide: Orbit | None = None,
-                     second: Orbit | None = None) -> tuple[np.ndarray, int, int]:
+                     second: Orbit | None = None) -> tuple[np.ndarray, int, int, float]:
         """Chord steps with :meth:`linear_jacobian` from ``nodes``, integrating the state only
         (a fifth of the cost of an evaluation with the variational equations), until the next
         iterate is predicted to meet ``goal`` (the absolute residual of convergence) from the
         observed contraction, or the contraction is poor (then the best iterate so far).
         Returns the nodes at which Newton with the variational equations continues, the chord
-        evaluations and their right-hand-side count. The variational equations (Jacobian,
-        monodromy, Floquet multipliers) are then integrated at an iterate that is already on
-        the orbit to about ``goal`` instead of at the particular-solution start."""
+        evaluations, their right-hand-side count and, when the steps stopped on the prediction
+        after the first step, the residual before that step (else NaN). The variational
+        equations (Jacobian, monodromy, Floquet multipliers) are then integrated at an iterate
+        that is already on the orbit to about ``goal`` instead of at the particular-solution
+        start.
+
+        The first step's contraction is not yet observed when it is taken: it is taken as that
+        observed on the last orbit solved with two guides on as many segments (a map's
+        neighbour at the next lower speed: the contraction of the first step varies little
+        between neighbours, 1e-6 to 1e-4 on the finer NT grid), else as 1e-2. Where that
+        predicts convergence the evaluation after the first step is Newton's with the
+        variational equations, one state-only evaluation fewer (about a sixth of an orbit)."""
         m = nodes.shape[0]
         try:
             inv = np.linalg.inv(self.chord_jacobian(self.speed_m_s, m, guide, second))
         except np.linalg.LinAlgError:
-            return nodes, 0, 0
+            return nodes, 0, 0, math.nan
+        two = self._guides(guide, m) and self._guides(second, m)
+        first_rate = self._first_rate.get(m, 1e-2) if two else 1e-2
         best, prev, total, k = nodes, np.inf, 0, 0
         for k in range(1, max_steps + 1):
             try:
                 ev = self.residual(nodes, variational=False, atol=atol)
             except (FloatingPointError, ZeroDivisionError):
-                return best, k, total
+                return best, k, total, math.nan
             total += ev["n_rhs"]
             res = float(np.max(np.abs(ev["R"])))
             if not np.isfinite(res) or res > 0.3 * prev:
-                return best, k, total  # poor contraction: Newton from the best iterate
+                return best, k, total, math.nan  # poor contraction: Newton from the best iterate
+            if k == 2 and two:
+                self._first_rate[m] = res / prev
             best = nodes
             if res <= goal:
-                return nodes, k, total
-            rate = res / prev if np.isfinite(prev) else 1e-2
+                return nodes, k, total, math.nan
+            rate = res / prev if np.isfinite(prev) else first_rate
             nodes = nodes - (inv @ ev["R"].ravel()).reshape(m, 4)
             prev = res
             if rate * res <= CHORD_PREDICT * goal:
-                return nodes, k, total
-        return nodes, k, total
+                return nodes, k, total, (res if k == 1 and two else math.nan)
+        return nodes, k, total, math.nan
 
     def solve(self, speed_m_s: float, start: np.ndarray | None = None, *,
               segments: int | None = None, max_iter: int = 12, tol: float = 1e-10,
@@ -590,10 +622,10 @@ class OrbitSolver:
             nodes = self.start_nodes(speed_m_s, m, guide, second)
         scale = max(float(np.max(np.abs(nodes))), 1e-300)
         atol = self.rtol * np.array([scale, 1.0, scale, scale, scale])
-        chord, total = 0, 0
+        chord, total, before = 0, 0, math.nan
         if chord_start:
-            nodes, chord, total = self._chord_start(nodes, atol, tol * scale, guide=guide,
-                                                    second=second)
+            nodes, chord, total, before = self._chord_start(nodes, atol, tol * scale,
+                                                            guide=guide, second=second)
         best_res, best_nodes, best_ev = np.inf, nodes, None
         jac = None
         it, ok, prev_res, why = 0, False, np.inf, ""
@@ -608,6 +640,8 @@ class OrbitSolver:
             if need:
                 jac = ev
             res = float(np.max(np.abs(ev["R"])))
+            if it == 0 and before > 0 and np.isfinite(res):
+                self._first_rate[m] = res / before  # the first chord step's contraction
             if not np.isfinite(res) or res > 1e3 * max(best_res, 1e-12 * scale):
                 break
             if res < best_res:
@@ -663,6 +697,13 @@ class OrbitSolver:
         return Orbit(self.model, self.method, self.speed_m_s, self.omega_rad_s, self.torque_scale,
                      nodes, nan, nan, nan, nan, np.full(4, nan + 0j), float("inf"), False, it, m,
                      self.half_period, nan, nan, nan, total)
+
+
+def _remember(memo: dict, key, value, size: int = 8) -> None:
+    """Store ``value`` under ``key``, dropping the oldest entries beyond ``size``."""
+    memo[key] = value
+    while len(memo) > size:
+        memo.pop(next(iter(memo)))
 
 
 def small_expm(a: np.ndarray) -> np.ndarray:
