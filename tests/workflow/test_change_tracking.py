@@ -453,8 +453,8 @@ def _users(rel, scripts=RULE_SCRIPTS):
 RULES_OF = {
     "linear_time.py": {"linear_time_la", "linear_time_ln"},
     "figures.py": {"figures_section2", "figures_linear_overview", "figures_linear_rd",
-                   "figures_linear_time", "figures_linear_spectra", "figures_nonlinear",
-                   "figures_validation"},
+                   "figures_linear_time_hs_cf", "figures_linear_time_hr_cr",
+                   "figures_linear_spectra", "figures_nonlinear", "figures_validation"},
 }
 
 
@@ -478,8 +478,9 @@ def _rules(script_names):
     # the figure style: every figure rule, the closed-loop and own-bicycle rules (they draw
     # their figures too) and the book's notebook jobs (notebooks draw figures), then the book
     ("src/pedalrepro/pedalrepro.mplstyle",
-     {"figures_section2", "figures_linear_overview", "figures_linear_rd", "figures_linear_time",
-      "figures_linear_spectra", "figures_nonlinear", "figures_validation", "figures_periodic",
+     {"figures_section2", "figures_linear_overview", "figures_linear_rd",
+      "figures_linear_time_hs_cf", "figures_linear_time_hr_cr", "figures_linear_spectra",
+      "figures_nonlinear", "figures_validation", "figures_periodic",
       "closed_loop_figures", "own_bicycle_resonance", "book_notebook", "book"}),
     # its own job (rule book_notebook), then the book as its dependent
     ("notebooks/02_pedalling_disturbance.ipynb", {"book_notebook", "book"}),

@@ -21,10 +21,18 @@ RD_NORM = (1e-3, 1e2)   # percent
 
 def _mesh(ax, v, w, z, norm, cmap="viridis"):
     z = np.where(np.isfinite(z) & (z > 0), z, np.nan)
-    # rasterized: in the PDF one image per panel instead of a path per grid cell (the PDF of
-    # the 32-panel maps took 5 s to write)
-    return ax.pcolormesh(v, w, np.clip(z, *norm).T, norm=LogNorm(*norm), cmap=cmap,
-                         shading="nearest", rasterized=True)
+    z = np.clip(z, *norm).T
+    dv, dw = np.diff(v), np.diff(w)
+    if v.size > 1 and w.size > 1 and np.allclose(dv, dv[0]) and np.allclose(dw, dw[0]):
+        # a uniform grid: one image, cell centres at the grid points (as pcolormesh's
+        # "nearest" shading); an image is one object in the PDF and one blit in the PNG,
+        # where a rasterized mesh needs a figure-sized raster per panel in the PDF
+        return ax.imshow(z, norm=LogNorm(*norm), cmap=cmap, origin="lower", aspect="auto",
+                         interpolation="nearest",
+                         extent=(v[0] - dv[0] / 2, v[-1] + dv[0] / 2, w[0] - dw[0] / 2,
+                                 w[-1] + dw[0] / 2))
+    return ax.pcolormesh(v, w, z, norm=LogNorm(*norm), cmap=cmap, shading="nearest",
+                         rasterized=True)
 
 
 def _unstable(ax, v, w, stable, converged) -> None:
@@ -35,7 +43,7 @@ def _unstable(ax, v, w, stable, converged) -> None:
     for mask, hatch in ((unstable, "///"), (failed, "xxx")):
         if mask.any():
             ax.contourf(v, w, mask.T.astype(float), levels=[0.5, 1.5], colors="none",
-                        hatches=[hatch], rasterized=True)
+                        hatches=[hatch])
     if unstable.any() and (~unstable & forced).any():
         ax.contour(v, w, unstable.T.astype(float), levels=[0.5], colors="w", linewidths=1.0)
 

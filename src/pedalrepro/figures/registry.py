@@ -159,6 +159,13 @@ def _time_inputs(model: str, first: Mapping[str, str]) -> dict[str, str]:
     return {**first, **{f"time.{m}": _i(f"time/{m}_{model}.npz") for m in TIME_METHODS}}
 
 
+def _time_group(model: str) -> str:
+    """Figure group of a model's time-history figures: HS and CF in one job, HR and CR in
+    another, so that each pair is drawn as soon as its own NT/NP sweeps are done (one group of
+    all 16 figures took 26-34 s after the slowest sweep, NP HS, on the critical path)."""
+    return "linear_time_hs_cf" if model in ("HS", "CF") else "linear_time_hr_cr"
+
+
 def _time_figure(fid: str, function: str, model: str, coord: str, group: str, first: dict,
                  series: bool = False, **kw) -> None:
     key = f"series_{coord}_rad" if series else ""
@@ -178,15 +185,15 @@ for _ft, _ff, _m, _c in (("fig_3_10", "fig_3_20", "HS", "roll"),
                          ("fig_3_16", "fig_3_26", "CR", "roll"),
                          ("fig_3_17", "fig_3_27", "CR", "steer")):
     _ps = {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}
-    _time_figure(_ft, "linear.figs_ps_time", _m, _c, "linear_time", _ps)
+    _time_figure(_ft, "linear.figs_ps_time", _m, _c, _time_group(_m), _ps)
     _time_figure(_ff, "linear.figs_fft", _m, _c, "linear_spectra", _ps)
 for _fid, _m, _c in (("fig_g_1", "HS", "roll"), ("fig_g_2", "CF", "roll"),
                      ("fig_g_3", "CF", "steer"), ("fig_g_4", "HR", "roll"),
                      ("fig_g_5", "HR", "steer"), ("fig_g_6", "CR", "roll")):
-    _time_figure(_fid, "linear.figs_ps_time", _m, _c, "linear_time",
+    _time_figure(_fid, "linear.figs_ps_time", _m, _c, _time_group(_m),
                  {"ps": _i(f"ps/{_m}.npz"), "eig": _i(f"eigen/{_m}.npz")}, single_harmonic=True)
-for _fid, _func, _m, _g in (("fig_3_18", "linear.figs_series_time", "HS", "linear_time"),
-                            ("fig_3_19", "linear.figs_series_time", "CR", "linear_time"),
+for _fid, _func, _m, _g in (("fig_3_18", "linear.figs_series_time", "HS", _time_group("HS")),
+                            ("fig_3_19", "linear.figs_series_time", "CR", _time_group("CR")),
                             ("fig_3_28", "linear.figs_series_fft", "HS", "linear_spectra"),
                             ("fig_3_29", "linear.figs_series_fft", "CR", "linear_spectra")):
     _time_figure(_fid, _func, _m, "steer", _g,
