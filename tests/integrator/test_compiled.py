@@ -13,7 +13,10 @@ wrong row or sign changes the accelerations by O(1)).
 from __future__ import annotations
 
 import ctypes
+import platform
 import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -85,3 +88,29 @@ def test_orbit_rhs_equals_simulation_rhs_at_held_wheel_rate(method):
     del keep
     assert checked == 6
     assert worst <= 1e-12, worst
+
+
+_FUSED = re.compile(r"\bv?f(n)?m(add|sub)(sub|add)?\d{3}[sp][sd]\b")
+
+
+@pytest.mark.skipif(shutil.which("objdump") is None or platform.machine() != "x86_64",
+                    reason="needs binutils' objdump on x86_64 (the fused instructions checked)")
+@pytest.mark.parametrize("variant", ["plain", "legs_arms"])
+def test_compiled_libraries_round_every_operation_separately(variant):
+    """Every multiplication and addition of the simulation and periodic-orbit libraries is
+    rounded on its own (``-ffp-contract=off``): no fused multiply-add instruction in the machine
+    code. GCC 12's straight-line vectoriser made one (``vfmsubadd``) out of the generated model
+    code despite that flag, so that a change of the hand-written solve moved results by an ulp
+    (and 13 chaotic NT runs); ``-fno-tree-slp-vectorize`` in ``build.CFLAGS`` prevents it."""
+    from pedalrepro.nonlinear import library, symbolic
+
+    options = symbolic.ModelOptions(legs="legs" in variant, arms="arms" in variant)
+    libs = [library.compiled_library(options)]
+    libs.append(periodic.OrbitSolver("CF" if "arms" in variant else "HR", "NP" if "legs" in
+                                     variant else "NT", 2 * np.pi)._lib._name)
+    for so in libs:
+        code = subprocess.run(["objdump", "-d", "--no-show-raw-insn", str(so)],
+                              capture_output=True, text=True, check=True).stdout
+        fused = sorted(set(_FUSED.findall(code)))
+        assert code.count("\n") > 1000  # the disassembly is there
+        assert not _FUSED.search(code), (so, fused)

@@ -56,7 +56,15 @@ def compiler() -> str | None:
 #: Compiler flags. ``-O3 -march=native`` runs the thesis-grid NT/NP sweeps about 20 % faster than
 #: ``-O2`` (measured, scripts/bench_nonlinear.py); ``-ffp-contract=off`` keeps every
 #: multiplication and addition separately rounded, so the results equal ``-O2``'s to the bit.
-CFLAGS: tuple[str, ...] = ("-O3", "-march=native", "-ffp-contract=off")
+#: ``-fno-tree-slp-vectorize``: GCC 12's straight-line vectoriser fuses an alternating
+#: add/subtract pair of the generated model code into ``vfmsubadd`` (a fused multiply-add, one
+#: rounding) despite ``-ffp-contract=off``; it did so in model_rhs once the dependent speeds'
+#: solve changed (lu_solve_columns), moving a dependent speed by 2e-5 relative of its 4e-19 and
+#: changing 13 chaotic (falling) NT runs of CR. Without it the build has no fused operation and
+#: equals the earlier builds to the bit, at about 5 % of the right-hand side's time
+#: (0.84 -> 0.90 us per model_held_rhs call, measured on this machine).
+CFLAGS: tuple[str, ...] = ("-O3", "-march=native", "-ffp-contract=off",
+                           "-fno-tree-slp-vectorize")
 #: Flags of a second attempt when the compiler rejects :data:`CFLAGS` (``-march=native`` is not
 #: supported everywhere).
 FALLBACK_CFLAGS: tuple[str, ...] = ("-O2",)
