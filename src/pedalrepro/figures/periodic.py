@@ -25,8 +25,9 @@ def _mesh(ax, v, w, z, norm, cmap="viridis"):
     dv, dw = np.diff(v), np.diff(w)
     if v.size > 1 and w.size > 1 and np.allclose(dv, dv[0]) and np.allclose(dw, dw[0]):
         # a uniform grid: one image, cell centres at the grid points (as pcolormesh's
-        # "nearest" shading); an image is one object in the PDF and one blit in the PNG,
-        # where a rasterized mesh needs a figure-sized raster per panel in the PDF
+        # "nearest" shading), embedded at its own resolution: the PDFs are a third smaller
+        # than with a rasterized mesh (figure-sized rasters); the drawing time is the same
+        # (16.2 vs 16.5 s for the six periodic figures: constrained layout of 20 axes)
         return ax.imshow(z, norm=LogNorm(*norm), cmap=cmap, origin="lower", aspect="auto",
                          interpolation="nearest",
                          extent=(v[0] - dv[0] / 2, v[-1] + dv[0] / 2, w[0] - dw[0] / 2,

@@ -630,7 +630,10 @@ class OrbitSolver:
         jac = None
         it, ok, prev_res, why = 0, False, np.inf, ""
         for it in range(max_iter + 1):
-            need = jac is None or best_res > switch * scale
+            # after a first evaluation that the neighbour's contraction predicted converged but
+            # was not, the variational equations once more at the Newton iterate, so that the
+            # multipliers belong to an iterate on the orbit as without the prediction
+            need = jac is None or best_res > switch * scale or (it == 1 and before > 0)
             try:
                 ev = self.residual(nodes, variational=need, atol=atol)
             except (FloatingPointError, ZeroDivisionError) as exc:
