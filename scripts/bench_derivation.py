@@ -1,4 +1,4 @@
-"""Where the one-time derivation of the non-linear models goes (issue 24, part 4).
+"""Where the one-time derivation of the non-linear models goes: the seconds of each stage.
 
     python scripts/bench_derivation.py [--variants plain legs arms legs_arms]
 

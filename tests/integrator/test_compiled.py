@@ -13,7 +13,6 @@ wrong row or sign changes the accelerations by O(1)).
 from __future__ import annotations
 
 import ctypes
-import platform
 import re
 import shutil
 import subprocess
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from required import CC, skip_unless_required
 
 from pedalrepro import periodic
 from pedalrepro.integrator import build
@@ -90,11 +90,11 @@ def test_orbit_rhs_equals_simulation_rhs_at_held_wheel_rate(method):
     assert worst <= 1e-12, worst
 
 
-_FUSED = re.compile(r"\bv?f(n)?m(add|sub)(sub|add)?\d{3}[sp][sd]\b")
+#: Fused multiply-add instructions: x86-64 (FMA3/AVX-512: vfmadd231sd, vfmsubadd132pd, ...) and
+#: AArch64 (fmadd, fnmsub, fmla, ...).
+_FUSED = re.compile(r"\b(v?fn?m(add|sub)(sub|add)?\d{3}[sp][sd]|fn?m(add|sub)|fml[as])\b")
 
 
-@pytest.mark.skipif(shutil.which("objdump") is None or platform.machine() != "x86_64",
-                    reason="needs binutils' objdump on x86_64 (the fused instructions checked)")
 @pytest.mark.parametrize("variant", ["plain", "legs_arms"])
 def test_compiled_libraries_round_every_operation_separately(variant):
     """Every multiplication and addition of the simulation and periodic-orbit libraries is
@@ -102,6 +102,8 @@ def test_compiled_libraries_round_every_operation_separately(variant):
     code. GCC 12's straight-line vectoriser made one (``vfmsubadd``) out of the generated model
     code despite that flag, so that a change of the hand-written solve moved results by an ulp
     (and 13 chaotic NT runs); ``-fno-tree-slp-vectorize`` in ``build.CFLAGS`` prevents it."""
+    if shutil.which("objdump") is None:
+        skip_unless_required(CC, "binutils' objdump (installed with the C compiler) not found")
     from pedalrepro.nonlinear import library, symbolic
 
     options = symbolic.ModelOptions(legs="legs" in variant, arms="arms" in variant)
