@@ -104,12 +104,14 @@ def test_compiled_libraries_round_every_operation_separately(variant):
     (and 13 chaotic NT runs); ``-fno-tree-slp-vectorize`` in ``build.CFLAGS`` prevents it."""
     if shutil.which("objdump") is None:
         skip_unless_required(CC, "binutils' objdump (installed with the C compiler) not found")
-    from pedalrepro.nonlinear import library, symbolic
+    from pedalrepro.nonlinear import codegen, library, symbolic
+    from pedalrepro.periodic import solver
 
     options = symbolic.ModelOptions(legs="legs" in variant, arms="arms" in variant)
-    libs = [library.compiled_library(options)]
-    libs.append(periodic.OrbitSolver("CF" if "arms" in variant else "HR", "NP" if "legs" in
-                                     variant else "NT", 2 * np.pi)._lib._name)
+    model_c = codegen.generated_c(options)
+    libs = [library.compiled_library(options),
+            build.build(solver.PERIODIC_LIBRARY_C, codegen.cache_dir(), "periodic",
+                        model_c=model_c)]
     for so in libs:
         code = subprocess.run(["objdump", "-d", "--no-show-raw-insn", str(so)],
                               capture_output=True, text=True, check=True).stdout

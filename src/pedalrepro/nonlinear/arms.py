@@ -50,7 +50,6 @@ __all__ = [
 ]
 
 
-
 @dataclass(frozen=True)
 class YeadonArms:
     """The right arm of the Yeadon rider in the benchmark frame (original seat height).

@@ -467,14 +467,12 @@ class OrbitSolver:
         (relative O(amplitude^2) for NT; for NP also the legs' periodic inertia), so chord steps
         with it contract the residual by about that factor per step (:meth:`solve`). Kept for
         the last few speeds (a map's orbit asks for its own and its two guides'), read-only."""
-        key = (float(speed_m_s), int(m))
-        if key not in self._memo_jac:
+        def make() -> np.ndarray:
             g = small_expm(linear.state_matrix(self.linear, speed_m_s) * (self.shoot_s / m))
             sign = -1.0 if self.half_period else 1.0
-            jac = _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
-            jac.setflags(write=False)
-            _remember(self._memo_jac, key, jac)
-        return self._memo_jac[key]
+            return _shooting_jacobian([g] * (m - 1) + [sign * g])[0]
+
+        return _memoised(self._memo_jac, (float(speed_m_s), int(m)), make)
 
     def chord_jacobian(self, speed_m_s: float, m: int, guide: Orbit | None = None,
                        second: Orbit | None = None) -> np.ndarray:
@@ -514,12 +512,8 @@ class OrbitSolver:
 
     def _ps_nodes(self, speed_m_s: float, m: int) -> np.ndarray:
         """PS at the ``m`` node times (:meth:`ps_state`), kept for the last few speeds."""
-        key = (float(speed_m_s), int(m))
-        if key not in self._memo_ps:
-            nodes = self.ps_state(speed_m_s, self.node_times(m)[:-1])
-            nodes.setflags(write=False)
-            _remember(self._memo_ps, key, nodes)
-        return self._memo_ps[key]
+        return _memoised(self._memo_ps, (float(speed_m_s), int(m)),
+                         lambda: self.ps_state(speed_m_s, self.node_times(m)[:-1]))
 
     def _guides(self, guide: Orbit | None, m: int) -> bool:
         """Whether ``guide`` is a converged orbit of this problem (model, method, cadence,
@@ -702,11 +696,16 @@ class OrbitSolver:
                      self.half_period, nan, nan, nan, total)
 
 
-def _remember(memo: dict, key, value, size: int = 8) -> None:
-    """Store ``value`` under ``key``, dropping the oldest entries beyond ``size``."""
-    memo[key] = value
-    while len(memo) > size:
-        memo.pop(next(iter(memo)))
+def _memoised(memo: dict, key, make, size: int = 8) -> np.ndarray:
+    """``memo[key]``, made read-only by ``make()`` when missing; the oldest entries beyond
+    ``size`` are dropped."""
+    if key not in memo:
+        value = make()
+        value.setflags(write=False)
+        memo[key] = value
+        while len(memo) > size:
+            memo.pop(next(iter(memo)))
+    return memo[key]
 
 
 def small_expm(a: np.ndarray) -> np.ndarray:
